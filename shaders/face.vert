@@ -1,0 +1,61 @@
+#version 330 core
+// Face vertex shader. The loader defines exactly one of TECHNIQUE_FLAT, TECHNIQUE_NONE,
+// TECHNIQUE_T1, TECHNIQUE_T2. Technique 2 (SPEC §5) is computed here, per vertex, and
+// interpolated to the fragment shader as v_wrinkle.
+
+in vec3 in_position;
+in vec3 in_normal;
+in vec4 in_tangent;   // xyz tangent, w handedness: bitangent = w * cross(N, T)
+in vec2 in_uv;        // v up; images are stored top row first, so textures are read at (u, 1 - v)
+
+uniform mat4 u_view;
+uniform mat4 u_proj;
+
+out vec3 v_view_pos;
+out vec3 v_normal;
+out vec3 v_tangent;
+out vec3 v_bitangent;
+out vec2 v_texcoord;
+out float v_wrinkle;
+
+#ifdef TECHNIQUE_T2
+in vec3 in_rest;      // neutral-pose position
+in mat4 in_wdv;       // column s: wrinkle direction xyz and authored length (0 = unused slot)
+in vec4 in_cone;      // cone half-angle (radians) of each slot
+uniform float u_expression;   // k, the expression factor
+uniform bool u_scale_free;    // divide |delta| by the authored length
+
+// Strongest visibility over the vertex's slots (order-independent), SPEC §5:
+// w = clamp(|delta| * (1 - alpha / theta_max) * k, 0, 1) inside the cone, 0 outside.
+float wdv_visibility(vec3 delta) {
+    float len = length(delta);
+    if (len <= 0.0) return 0.0;
+    float w = 0.0;
+    for (int s = 0; s < 4; ++s) {
+        vec4 d = in_wdv[s];
+        float theta = in_cone[s];
+        if (d.w <= 0.0 || theta <= 0.0) continue;
+        float alpha = acos(clamp(dot(delta, d.xyz) / len, -1.0, 1.0));
+        if (alpha >= theta) continue;
+        float magnitude = u_scale_free ? len / d.w : len;
+        w = max(w, clamp(magnitude * (1.0 - alpha / theta) * u_expression, 0.0, 1.0));
+    }
+    return w;
+}
+#endif
+
+void main() {
+    vec4 view_pos = u_view * vec4(in_position, 1.0);
+    mat3 to_view = mat3(u_view);   // rigid camera: rotation only
+    v_view_pos = view_pos.xyz;
+    v_normal = to_view * in_normal;
+    v_tangent = to_view * in_tangent.xyz;
+    v_bitangent = in_tangent.w * cross(v_normal, v_tangent);
+    v_texcoord = vec2(in_uv.x, 1.0 - in_uv.y);
+#ifdef TECHNIQUE_T2
+    v_wrinkle = wdv_visibility(in_position - in_rest);
+#else
+    v_wrinkle = 0.0;
+#endif
+    gl_Position = u_proj * view_pos;
+}

@@ -1,0 +1,124 @@
+"""Orbit camera: framing, matrices, projection of points and picking rays (numpy only).
+
+The camera orbits a target; yaw 0 and pitch 0 look at the face from the front (+Z toward −Z),
+with +Y up. Matrices are row-major numpy arrays (transpose before sending to GLSL).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+Array = np.ndarray
+
+
+def look_at(eye: Array, target: Array, up: Array) -> Array:
+    f = target - eye
+    f = f / np.linalg.norm(f)
+    s = np.cross(f, up)
+    s = s / np.linalg.norm(s)
+    u = np.cross(s, f)
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = s, u, -f
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def perspective(fov_y_deg: float, aspect: float, near: float, far: float) -> Array:
+    f = 1.0 / math.tan(math.radians(fov_y_deg) / 2.0)
+    m = np.zeros((4, 4))
+    m[0, 0] = f / aspect
+    m[1, 1] = f
+    m[2, 2] = (far + near) / (near - far)
+    m[2, 3] = 2.0 * far * near / (near - far)
+    m[3, 2] = -1.0
+    return m
+
+
+@dataclass
+class OrbitCamera:
+    target: Array = field(default_factory=lambda: np.zeros(3))
+    distance: float = 5.0
+    yaw: float = 20.0  # degrees, positive turns the camera toward the face's left (+X)
+    pitch: float = 5.0  # degrees, positive looks from above
+    fov_y: float = 30.0
+    radius: float = 1.0  # size of what is framed; sets the clipping planes
+
+    def frame(self, lo: Array, hi: Array, margin: float = 1.08) -> None:
+        """Centre on a bounding box and back off until it fits the view (any model size)."""
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        self.target = (lo + hi) / 2.0
+        self.radius = max(float(np.linalg.norm(hi - lo)) / 2.0, 1e-6)
+        self.distance = margin * self.radius / math.sin(math.radians(self.fov_y) / 2.0)
+
+    def direction(self) -> Array:
+        """Unit vector from the target toward the eye."""
+        y, p = math.radians(self.yaw), math.radians(self.pitch)
+        return np.array([math.sin(y) * math.cos(p), math.sin(p), math.cos(y) * math.cos(p)])
+
+    def eye(self) -> Array:
+        return self.target + self.distance * self.direction()
+
+    def view_matrix(self) -> Array:
+        return look_at(self.eye(), self.target, np.array([0.0, 1.0, 0.0]))
+
+    def clip_planes(self) -> tuple[float, float]:
+        near = max(self.distance - 2.0 * self.radius, self.distance * 0.01, 1e-4)
+        return near, self.distance + 2.0 * self.radius
+
+    def projection_matrix(self, aspect: float) -> Array:
+        return perspective(self.fov_y, aspect, *self.clip_planes())
+
+    def view_projection(self, width: int, height: int) -> Array:
+        return self.projection_matrix(width / max(height, 1)) @ self.view_matrix()
+
+    # --- interaction -------------------------------------------------------------------------
+    def orbit(self, d_yaw: float, d_pitch: float) -> None:
+        self.yaw = (self.yaw + d_yaw) % 360.0
+        self.pitch = float(np.clip(self.pitch + d_pitch, -89.0, 89.0))
+
+    def pan(self, dx: float, dy: float) -> None:
+        """Move the target by a fraction of the view height (dx right, dy up)."""
+        view = self.view_matrix()
+        right, up = view[0, :3], view[1, :3]
+        scale = 2.0 * self.distance * math.tan(math.radians(self.fov_y) / 2.0)
+        self.target = self.target + (dx * right + dy * up) * scale
+
+    def zoom(self, factor: float) -> None:
+        """Multiply the distance to the target (factor < 1 moves closer)."""
+        self.distance = float(np.clip(self.distance * factor, self.radius * 0.05,
+                                      self.radius * 100.0))
+
+    # --- screen <-> world --------------------------------------------------------------------
+    def project(self, points: Array, width: int, height: int) -> tuple[Array, Array]:
+        """Pixel coordinates (x right, y down) and view depth of world points."""
+        pts = np.asarray(points, float).reshape(-1, 3)
+        clip = np.c_[pts, np.ones(len(pts))] @ self.view_projection(width, height).T
+        ndc = clip[:, :3] / clip[:, 3:4]
+        px = np.c_[(ndc[:, 0] + 1.0) * 0.5 * width, (1.0 - ndc[:, 1]) * 0.5 * height]
+        return px, clip[:, 3]
+
+    def ray(self, x: float, y: float, width: int, height: int) -> tuple[Array, Array]:
+        """World-space origin and unit direction of the ray through pixel (x, y)."""
+        inv = np.linalg.inv(self.view_projection(width, height))
+        ndc = np.array([2.0 * x / width - 1.0, 1.0 - 2.0 * y / height])
+        near = inv @ np.array([ndc[0], ndc[1], -1.0, 1.0])
+        far = inv @ np.array([ndc[0], ndc[1], 1.0, 1.0])
+        near, far = near[:3] / near[3], far[:3] / far[3]
+        d = far - near
+        return near, d / np.linalg.norm(d)
+
+    def to_dict(self) -> dict:
+        return {"target": [float(v) for v in self.target], "distance": self.distance,
+                "yaw": self.yaw, "pitch": self.pitch, "fov_y": self.fov_y, "radius": self.radius}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> OrbitCamera:
+        cam = cls()
+        cam.target = np.asarray(data.get("target", [0, 0, 0]), float)
+        for key in ("distance", "yaw", "pitch", "fov_y", "radius"):
+            if key in data:
+                setattr(cam, key, float(data[key]))
+        return cam

@@ -1,0 +1,44 @@
+"""The project: everything the user authored and imported, free of Qt and GL."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from studio.core.errors import StudioError
+from studio.core.influence import InfluenceSetup
+from studio.core.mesh import FaceMesh
+from studio.core.poses import NEUTRAL, KeyPose, check_pose_topology
+from studio.core.textures import FaceTextures
+from studio.core.wdv import WdvSetup
+
+
+@dataclass(eq=False)
+class Project:
+    name: str
+    mesh: FaceMesh
+    poses: list[KeyPose]  # key poses other than the neutral one (the mesh's rest positions)
+    textures: FaceTextures
+    influence: InfluenceSetup = field(default_factory=InfluenceSetup)
+    wdv: WdvSetup = field(default_factory=WdvSetup)
+    view: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for pose in self.poses:
+            check_pose_topology(self.mesh.rest, pose, self.mesh.source or None)
+
+    @property
+    def pose_names(self) -> list[str]:
+        return [NEUTRAL, *(p.name for p in self.poses)]
+
+    def pose(self, name: str) -> KeyPose:
+        if name == NEUTRAL:
+            return KeyPose(NEUTRAL, self.mesh.rest)
+        for pose in self.poses:
+            if pose.name == name:
+                return pose
+        raise StudioError(f"unknown pose '{name}' (poses: {', '.join(self.pose_names)})")
+
+    def single_pose_weights(self, name: str, weight: float = 1.0) -> dict[str, float]:
+        """Weights that show one key pose (at ``weight``) and nothing else."""
+        self.pose(name)
+        return {} if name == NEUTRAL else {name: weight}

@@ -1,0 +1,42 @@
+"""The face's texture maps (SPEC §2, §9).
+
+Images are stored as they are in a PNG: row 0 at the top (v = 1). Normal maps are tangent-space,
+OpenGL convention (+Y green up), 8- or 16-bit; a flat map is RGB (128, 128, 255) everywhere.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from studio.core.errors import ImageError
+
+Array = np.ndarray
+
+
+def flat_normal_map(size: int = 4) -> Array:
+    img = np.empty((size, size, 3), dtype=np.uint8)
+    img[...] = (128, 128, 255)
+    return img
+
+
+def check_image(image: Array, what: str, channels: int = 3) -> Array:
+    image = np.asarray(image)
+    if image.ndim != 3 or image.shape[2] != channels or min(image.shape[:2]) < 1:
+        raise ImageError(f"the {what} must be an RGB image, got an array of shape {image.shape}")
+    if image.dtype not in (np.uint8, np.uint16):
+        raise ImageError(f"the {what} must be 8- or 16-bit, got {image.dtype}")
+    return np.ascontiguousarray(image)
+
+
+@dataclass(eq=False)
+class FaceTextures:
+    diffuse: Array  # (H, W, 3) uint8 sRGB skin colour
+    normal_neutral: Array  # (H, W, 3) uint8/uint16 tangent-space normals
+    normal_wrinkled: Array  # (H, W, 3) uint8/uint16, every wrinkle the face can show
+
+    def __post_init__(self) -> None:
+        self.diffuse = check_image(self.diffuse, "diffuse map")
+        self.normal_neutral = check_image(self.normal_neutral, "neutral normal map")
+        self.normal_wrinkled = check_image(self.normal_wrinkled, "wrinkled normal map")

@@ -1,0 +1,83 @@
+"""Rendering without a screen: a standalone EGL context and an anti-aliased offscreen target."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import moderngl
+import numpy as np
+
+from studio.core.camera import OrbitCamera
+from studio.core.errors import RenderError
+from studio.core.project import Project
+from studio.render.renderer import FaceRenderer, RenderSettings
+from studio.render.scene import ProjectScene
+
+
+def create_standalone_context() -> moderngl.Context:
+    """An OpenGL 3.3+ context with no display (EGL; Mesa's llvmpipe on a machine without GPU)."""
+    errors = []
+    for kwargs in ({"backend": "egl"}, {}):
+        try:
+            ctx = moderngl.create_standalone_context(require=330, **kwargs)
+        except Exception as exc:  # the GL loaders raise plain Exception subclasses
+            errors.append(str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc))
+            continue
+        return ctx
+    raise RenderError("cannot create an OpenGL 3.3 context without a display "
+                      f"(is Mesa's EGL installed? libegl1 libegl-mesa0 libgl1-mesa-dri): "
+                      f"{'; '.join(errors)}")
+
+
+class OffscreenTarget:
+    """A multisampled colour+depth framebuffer resolved into a readable one."""
+
+    def __init__(self, ctx: moderngl.Context, width: int, height: int, samples: int = 4) -> None:
+        self.ctx = ctx
+        self.size = (width, height)
+        samples = min(samples, ctx.max_samples)
+        self.fbo = ctx.framebuffer(
+            color_attachments=[ctx.renderbuffer(self.size, 4, samples=samples)],
+            depth_attachment=ctx.depth_renderbuffer(self.size, samples=samples))
+        self.resolved = ctx.framebuffer(color_attachments=[ctx.renderbuffer(self.size, 4)])
+
+    def read(self) -> np.ndarray:
+        """The rendered image, (H, W, 3) uint8, top row first."""
+        self.ctx.copy_framebuffer(self.resolved, self.fbo)
+        data = self.resolved.read(components=3, alignment=1)
+        w, h = self.size
+        return np.frombuffer(data, np.uint8).reshape(h, w, 3)[::-1].copy()
+
+    def release(self) -> None:
+        self.fbo.release()
+        self.resolved.release()
+
+
+def default_camera(project: Project) -> OrbitCamera:
+    camera = OrbitCamera.from_dict(project.view.get("camera", {}))
+    if "camera" not in project.view:
+        camera.frame(*project.mesh.bounds())
+    return camera
+
+
+class OffscreenStudio:
+    """Renders a project's frames to images: the command line's and the tests' renderer."""
+
+    def __init__(self, project: Project, width: int, height: int, samples: int = 4,
+                 ctx: moderngl.Context | None = None) -> None:
+        self.ctx = ctx or create_standalone_context()
+        self.target = OffscreenTarget(self.ctx, width, height, samples)
+        self.renderer = FaceRenderer(self.ctx)
+        self.scene = ProjectScene(self.renderer, project)
+        self.camera = default_camera(project)
+
+    def render(self, settings: RenderSettings, weights: Mapping[str, float] | None = None
+               ) -> np.ndarray:
+        if weights is not None:
+            self.scene.set_pose_weights(weights)
+        self.renderer.render(self.target.fbo, self.camera, settings)
+        return self.target.read()
+
+    def release(self) -> None:
+        self.renderer.release()
+        self.target.release()

@@ -1,0 +1,51 @@
+"""Keeps a renderer in step with a project: the one path from document data to GPU state.
+
+Both the viewport and the command line use it, so what the studio shows is what it renders.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from studio.core.poses import PoseBlender
+from studio.core.project import Project
+from studio.render.renderer import FaceRenderer
+
+
+class ProjectScene:
+    def __init__(self, renderer: FaceRenderer, project: Project) -> None:
+        self.renderer = renderer
+        self.project = project
+        self.weights: dict[str, float] = {}
+        self.reload_mesh()
+        self.reload_textures()
+        self.reload_masks()
+        self.reload_wdv()
+
+    def reload_mesh(self) -> None:
+        """After the mesh or the set of key poses changed."""
+        project = self.project
+        self.blender = PoseBlender(project.mesh.rest, project.poses)
+        self.renderer.set_mesh(project.mesh)
+        self.set_pose_weights(self.weights)
+
+    def reload_textures(self) -> None:
+        self.renderer.set_textures(self.project.textures)
+
+    def reload_masks(self) -> None:
+        self.renderer.set_masks(self.project.influence.mask_stack())
+        self.reload_activations()
+
+    def reload_activations(self) -> None:
+        self.renderer.set_activations(self.project.influence.activations(self.weights))
+
+    def reload_wdv(self) -> None:
+        wdv = self.project.wdv
+        dirs, cones = wdv.pack_slots(self.project.mesh.n_welded)
+        self.renderer.set_wdv(dirs, cones, wdv.expression_factor, wdv.scale_free)
+
+    def set_pose_weights(self, weights: Mapping[str, float]) -> None:
+        """Deform the face to these key-pose weights; linked technique-1 areas follow."""
+        self.weights = {k: float(v) for k, v in weights.items() if k in self.blender.names}
+        self.renderer.set_positions(self.blender.blend(self.weights))
+        self.reload_activations()

@@ -1,0 +1,41 @@
+"""The one place GLSL is loaded: files in ``shaders/``, ``#include`` and ``#define`` handling.
+
+Techniques are compiled as separate programs (a ``#define`` each) instead of branching on a
+uniform, so every program does only its own work per pixel.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from functools import cache
+
+import moderngl
+
+from studio.paths import shader_dir
+
+_INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$', re.MULTILINE)
+
+
+@cache
+def load_source(name: str) -> str:
+    """Shader text with ``#include "file"`` lines replaced by that file's text."""
+    path = shader_dir() / name
+    text = path.read_text(encoding="utf-8")
+    return _INCLUDE.sub(lambda m: load_source(m.group(1)), text)
+
+
+def with_defines(source: str, defines: Iterable[str]) -> str:
+    """Insert ``#define`` lines right after the ``#version`` line."""
+    lines = source.split("\n", 1)
+    extra = "".join(f"#define {d}\n" for d in defines)
+    return f"{lines[0]}\n{extra}{lines[1] if len(lines) > 1 else ''}"
+
+
+def build_program(ctx: moderngl.Context, vertex: str, fragment: str,
+                  defines: Iterable[str] = ()) -> moderngl.Program:
+    defines = tuple(defines)
+    return ctx.program(
+        vertex_shader=with_defines(load_source(vertex), defines),
+        fragment_shader=with_defines(load_source(fragment), defines),
+    )
