@@ -107,12 +107,35 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def build_gui_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="wrinkle-studio",
+        description="Open the studio window (on the bundled sample face by default). "
+                    f"Commands: {', '.join(COMMANDS)} (see wrinkle-studio COMMAND -h).")
+    parser.add_argument("project", nargs="?", help="a .wrinkle project to open")
+    parser.add_argument("--screenshot", metavar="OUT.png",
+                        help="save a screenshot of the window once it has drawn, then exit")
+    return parser
+
+
+def run_gui(args: argparse.Namespace) -> int:
+    from studio.app import run
+
+    if args.project is not None and not Path(args.project).is_file():
+        raise StudioError("no such project file", args.project)
+    return run(args.project, args.screenshot)
+
+
+COMMANDS = ("render",)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return 0
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv and argv[0] in COMMANDS:
+        args = build_parser().parse_args(argv)
+    else:
+        args = build_gui_parser().parse_args(argv)
+        args.run = run_gui
     try:
         return args.run(args)
     except StudioError as exc:

@@ -1,0 +1,44 @@
+"""Starting the studio window: OpenGL surface format, application object, command-line options."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from PySide6.QtGui import QSurfaceFormat
+
+
+def configure_opengl() -> None:
+    """OpenGL 3.3 core with a depth buffer; must run before the QApplication exists."""
+    fmt = QSurfaceFormat()
+    fmt.setVersion(3, 3)
+    fmt.setProfile(QSurfaceFormat.OpenGLContextProfile.CoreProfile)
+    fmt.setDepthBufferSize(24)
+    fmt.setSamples(4)
+    QSurfaceFormat.setDefaultFormat(fmt)
+
+
+def run(project_path: str | None = None, screenshot: str | None = None) -> int:
+    from PySide6.QtWidgets import QApplication
+
+    from studio.widgets.main_window import MainWindow
+
+    configure_opengl()
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app.setApplicationName("Wrinkle Studio")
+    app.setOrganizationName("WrinkleStudio")
+    window = MainWindow()
+    window.show()
+    if project_path is not None and not window.open_path(Path(project_path)) and screenshot:
+        return 2
+    if screenshot:
+        out = Path(screenshot)
+
+        def done(ok: bool) -> None:
+            print(f"wrote {out}" if ok else f"wrinkle-studio: error: cannot write {out}",
+                  file=sys.stdout if ok else sys.stderr)
+            window.doc.undo_stack.setClean()
+            app.exit(0 if ok else 2)
+
+        window.grab_when_rendered(out, done)
+    return app.exec()

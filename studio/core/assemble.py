@@ -1,0 +1,44 @@
+"""A new project from the user's own files: neutral mesh, key-pose meshes, texture maps.
+
+Shared by File ▸ New from Files and the command line. Missing normal maps default to flat ones
+(SPEC §2: the neutral map may be flat); a missing diffuse map to plain skin colour.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from studio.core.errors import MeshError
+from studio.core.images import load_rgb
+from studio.core.meshio import load_mesh, load_pose
+from studio.core.poses import NEUTRAL
+from studio.core.project import Project
+from studio.core.textures import FaceTextures, flat_normal_map
+
+SKIN = (205, 160, 140)
+
+
+def plain_diffuse(size: int = 256) -> np.ndarray:
+    image = np.empty((size, size, 3), np.uint8)
+    image[...] = SKIN
+    return image
+
+
+def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
+                       diffuse: str | Path | None = None, normal: str | Path | None = None,
+                       wrinkled: str | Path | None = None, name: str | None = None) -> Project:
+    face = load_mesh(mesh)
+    key_poses = []
+    for pose_name, pose_path in (poses or {}).items():
+        if pose_name == NEUTRAL or pose_name in (p.name for p in key_poses):
+            raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
+        key_poses.append(load_pose(pose_path, face, pose_name))
+    textures = FaceTextures(
+        diffuse=load_rgb(diffuse) if diffuse else plain_diffuse(),
+        normal_neutral=load_rgb(normal) if normal else flat_normal_map(),
+        normal_wrinkled=load_rgb(wrinkled) if wrinkled else flat_normal_map(),
+    )
+    return Project(name or Path(mesh).stem, face, key_poses, textures)

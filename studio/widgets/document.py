@@ -1,0 +1,168 @@
+"""The open project on the Qt side: the single source of truth the views watch.
+
+Views never own data: they read from the document, listen to its signals and change it only by
+pushing undo commands (through the methods below). A signal per kind of change lets each view
+redo only what that change affects — the viewport re-uploads only the touched GPU data.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import QObject, Signal
+from PySide6.QtGui import QUndoStack
+
+from studio.core.camera import OrbitCamera
+from studio.core.project import Project
+from studio.widgets.commands import ValueCommand
+
+
+@dataclass
+class ViewState:
+    """How the project is looked at: saved with it, but not an edit (not undoable)."""
+
+    technique: str = "t2"  # none | t1 | t2
+    split: bool = False  # t1 | t2 side by side
+    debug_view: str = "shaded"  # shaded | heat | normals | uv
+    wireframe: bool = False
+    light_azimuth: float = 30.0  # degrees, camera-relative: 0 = from the viewer, + = from the right
+    light_elevation: float = 35.0  # degrees above the view direction
+
+    def light_dir(self) -> tuple[float, float, float]:
+        az, el = np.radians(self.light_azimuth), np.radians(self.light_elevation)
+        return (float(np.sin(az) * np.cos(el)), float(np.sin(el)), float(np.cos(az) * np.cos(el)))
+
+    @classmethod
+    def from_dict(cls, data: dict) -> ViewState:
+        names = {f.name for f in fields(cls)}
+        return cls(**{k: v for k, v in data.items() if k in names})
+
+
+class Document(QObject):
+    projectReplaced = Signal()  # a different project: everything changed
+    poseWeightsChanged = Signal()
+    activationsChanged = Signal()  # technique-1 activation sliders (pose links follow weights)
+    wdvChanged = Signal()  # technique-2 vectors, cone angles, expression factor
+    viewChanged = Signal()  # ViewState (technique, debug view, light)
+    cameraChanged = Signal()
+    pathChanged = Signal()
+    modifiedChanged = Signal(bool)
+
+    def __init__(self, project: Project, path: Path | None = None,
+                 parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.undo_stack = QUndoStack(self)
+        self.undo_stack.cleanChanged.connect(lambda clean: self.modifiedChanged.emit(not clean))
+        self._load(project, path)
+
+    # --- the whole project ---------------------------------------------------------------------
+    def _load(self, project: Project, path: Path | None) -> None:
+        self.project = project
+        self.path = path
+        self.pose_weights: dict[str, float] = {
+            k: float(v) for k, v in project.view.get("pose_weights", {}).items()
+            if k in project.pose_names}
+        self.view = ViewState.from_dict(project.view.get("view", {}))
+        self.camera = OrbitCamera.from_dict(project.view.get("camera", {}))
+        if "camera" not in project.view:
+            self.frame_all()
+
+    def replace_project(self, project: Project, path: Path | None) -> None:
+        """Open another project: a fresh undo history, every view refreshed."""
+        self.undo_stack.clear()
+        self._load(project, path)
+        self.undo_stack.setClean()
+        self.projectReplaced.emit()
+        self.pathChanged.emit()
+        self.modifiedChanged.emit(False)
+
+    @property
+    def modified(self) -> bool:
+        return not self.undo_stack.isClean()
+
+    @property
+    def display_name(self) -> str:
+        return self.path.stem if self.path else self.project.name
+
+    def store_view_state(self) -> None:
+        """Copy view state into the project so that it is saved with it."""
+        self.project.view["view"] = asdict(self.view)
+        self.project.view["camera"] = self.camera.to_dict()
+        self.project.view["pose_weights"] = dict(self.pose_weights)
+
+    def mark_saved(self, path: Path) -> None:
+        self.path = path
+        self.undo_stack.setClean()
+        self.pathChanged.emit()
+
+    # --- edits (undoable) ----------------------------------------------------------------------
+    def _push(self, text: str, read, apply, value, merge_key: Hashable | None) -> None:
+        if read() == value:
+            return
+        self.undo_stack.push(ValueCommand(text, read, apply, value, merge_key))
+
+    def set_pose_weight(self, name: str, weight: float, gesture: int | None = None) -> None:
+        def read() -> float:
+            return self.pose_weights.get(name, 0.0)
+
+        def apply(value: float) -> None:
+            self.pose_weights[name] = value
+            self.poseWeightsChanged.emit()
+
+        key = None if gesture is None else ("pose", name, gesture)
+        self._push(f"Pose {name}", read, apply, float(weight), key)
+
+    def set_area_activation(self, index: int, value: float, gesture: int | None = None) -> None:
+        area = self.project.influence.areas[index]
+
+        def apply(v: float) -> None:
+            area.activation = v
+            self.activationsChanged.emit()
+
+        key = None if gesture is None else ("activation", id(area), gesture)
+        self._push(f"Activation {area.name}", lambda: area.activation, apply, float(value), key)
+
+    def set_expression_factor(self, value: float, gesture: int | None = None) -> None:
+        wdv = self.project.wdv
+
+        def apply(v: float) -> None:
+            wdv.expression_factor = v
+            self.wdvChanged.emit()
+
+        key = None if gesture is None else ("expression", gesture)
+        self._push("Expression factor", lambda: wdv.expression_factor, apply, float(value), key)
+
+    def set_cone_angle(self, degrees: float, gesture: int | None = None) -> None:
+        """Cone half-angle θ_max of every technique-2 area."""
+        areas = self.project.wdv.areas
+
+        def read() -> tuple[float, ...]:
+            return tuple(a.cone_angle_deg for a in areas)
+
+        def apply(values: tuple[float, ...]) -> None:
+            for area, v in zip(areas, values, strict=True):
+                area.cone_angle_deg = v
+            self.wdvChanged.emit()
+
+        key = None if gesture is None else ("cone", gesture)
+        self._push("Cone angle", read, apply, tuple(float(degrees) for _ in areas), key)
+
+    # --- derived values ------------------------------------------------------------------------
+    def activations(self) -> np.ndarray:
+        """Technique-1 activation vector: sliders plus the links from the current pose weights."""
+        return self.project.influence.activations(self.pose_weights)
+
+    # --- view state (saved, not undoable) ------------------------------------------------------
+    def set_view(self, **changes) -> None:
+        for key, value in changes.items():
+            if not hasattr(self.view, key):
+                raise AttributeError(key)
+            setattr(self.view, key, value)
+        self.viewChanged.emit()
+
+    def frame_all(self) -> None:
+        self.camera.frame(*self.project.mesh.bounds())
+        self.cameraChanged.emit()

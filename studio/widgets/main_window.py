@@ -1,0 +1,306 @@
+"""The studio window: viewport in the middle, dockable panels, menus, and file handling."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import QSettings, Qt, QTimer, Signal
+from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
+from PySide6.QtWidgets import (
+    QDockWidget,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QUndoView,
+    QWidget,
+)
+
+from studio import __version__
+from studio.core.errors import StudioError
+from studio.core.project import Project
+from studio.widgets.document import Document
+from studio.widgets.pose_panel import PosePanel
+from studio.widgets.shading_panel import ShadingPanel
+from studio.widgets.viewport import Viewport
+
+PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
+MAX_RECENT = 10
+
+
+def settings() -> QSettings:
+    return QSettings("WrinkleStudio", "Wrinkle Studio")
+
+
+def sample_project() -> Project:
+    from studio.core.sample import make_sample
+
+    return make_sample()
+
+
+class MainWindow(QMainWindow):
+    firstFrame = Signal()
+
+    def __init__(self, project: Project | None = None, path: Path | None = None) -> None:
+        super().__init__()
+        self.doc = Document(project or sample_project(), path, self)
+        self.viewport = Viewport(self.doc)
+        self.setCentralWidget(self.viewport)
+        self.setDockNestingEnabled(True)
+        self.pose_panel = PosePanel(self.doc)
+        self.shading_panel = ShadingPanel(self.doc)
+        self.undo_view = QUndoView(self.doc.undo_stack)
+        self.undo_view.setEmptyLabel("<opened>")
+        self.docks: dict[str, QDockWidget] = {}
+        self._add_dock("Poses", self.pose_panel, Qt.DockWidgetArea.RightDockWidgetArea)
+        self._add_dock("Shading", self.shading_panel, Qt.DockWidgetArea.RightDockWidgetArea)
+        self._add_dock("History", self.undo_view, Qt.DockWidgetArea.LeftDockWidgetArea)
+        self.docks["History"].hide()
+        self._frame_label = QLabel("")
+        self.statusBar().addPermanentWidget(self._frame_label)
+        self._build_menus()
+        self.doc.modifiedChanged.connect(self.setWindowModified)
+        self.doc.pathChanged.connect(self._update_title)
+        self.doc.projectReplaced.connect(self._update_title)
+        self.viewport.frameRendered.connect(self._show_frame_time)
+        self.viewport.glFailed.connect(self._gl_failed)
+        self._update_title()
+        self.resize(1440, 900)
+        self._restore_layout()
+
+    def _add_dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> None:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(f"dock:{title}")
+        dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        self.docks[title] = dock
+
+    # --- menus ---------------------------------------------------------------------------------
+    def _action(self, menu, text: str, slot, shortcut=None, tip: str = "") -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            keys = shortcut if isinstance(shortcut, list) else [shortcut]
+            action.setShortcuts([QKeySequence(k) for k in keys])
+        action.setStatusTip(tip)
+        action.triggered.connect(slot)
+        menu.addAction(action)
+        return action
+
+    def _build_menus(self) -> None:
+        bar = self.menuBar()
+        file = bar.addMenu("&File")
+        self._action(file, "&New from Files…", self.new_from_files, QKeySequence.StandardKey.New,
+                     "Start a project from a neutral mesh, key-pose meshes and texture maps")
+        self._action(file, "&Open…", self.open_dialog, QKeySequence.StandardKey.Open)
+        self.recent_menu = file.addMenu("Open &Recent")
+        self.recent_menu.aboutToShow.connect(self._fill_recent_menu)
+        self._action(file, "Open &Sample Face", self.open_sample)
+        file.addSeparator()
+        self._action(file, "&Save", self.save, QKeySequence.StandardKey.Save)
+        self._action(file, "Save &As…", self.save_as, "Ctrl+Shift+S")
+        file.addSeparator()
+        self._action(file, "&Quit", self.close, QKeySequence.StandardKey.Quit)
+
+        edit = bar.addMenu("&Edit")
+        undo = self.doc.undo_stack.createUndoAction(self, "&Undo")
+        undo.setShortcut(QKeySequence.StandardKey.Undo)
+        redo = self.doc.undo_stack.createRedoAction(self, "&Redo")
+        redo.setShortcuts([QKeySequence("Ctrl+Shift+Z"), QKeySequence("Ctrl+Y")])
+        edit.addAction(undo)
+        edit.addAction(redo)
+        edit.addSeparator()
+        edit.addAction(self.docks["History"].toggleViewAction())
+        self.docks["History"].toggleViewAction().setText("Undo &History")
+
+        view = bar.addMenu("&View")
+        frame = self._action(view, "&Frame Face", self.doc.frame_all, "F")
+        frame.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
+        self.viewport.addAction(frame)
+        view.addSeparator()
+        for title in ("Poses", "Shading"):
+            view.addAction(self.docks[title].toggleViewAction())
+        view.addSeparator()
+        self._action(view, "Reset &Layout", self.reset_layout)
+
+        help_menu = bar.addMenu("&Help")
+        self._action(help_menu, "&Navigation…", self.show_navigation_help, "F1")
+        self._action(help_menu, "&About Wrinkle Studio", self.show_about)
+
+    # --- status --------------------------------------------------------------------------------
+    def _update_title(self) -> None:
+        self.setWindowTitle(f"{self.doc.display_name}[*] — Wrinkle Studio")
+        self.setWindowModified(self.doc.modified)
+
+    def _show_frame_time(self, ms: float) -> None:
+        self._frame_label.setText(f"frame {ms:.1f} ms ({1000.0 / max(ms, 1e-3):.0f} FPS)")
+        if self.viewport.frames_rendered == 1:
+            self.firstFrame.emit()
+
+    def _gl_failed(self, message: str) -> None:
+        QMessageBox.critical(self, "Wrinkle Studio", message)
+
+    def show_error(self, title: str, error: Exception) -> None:
+        QMessageBox.critical(self, title, str(error))
+
+    def show_about(self) -> None:
+        QMessageBox.about(
+            self, "About Wrinkle Studio",
+            f"<h3>Wrinkle Studio {__version__}</h3>"
+            "<p>Author and preview real-time facial expression wrinkles.</p>"
+            "<p>Implements the two GPU techniques of C. D. G. Reis, <i>Animação em tempo real de "
+            "rugas faciais explorando as modernas GPUs</i> (UNICAMP, 2010): influence areas with "
+            "an activation vector, and wrinkle direction vectors.</p>")
+
+    def show_navigation_help(self) -> None:
+        QMessageBox.information(
+            self, "Viewport navigation",
+            "Orbit: middle-drag, or Alt+left-drag\nPan: Shift+middle-drag, or Alt+Shift+left-drag"
+            "\nZoom: wheel, or Ctrl+middle-drag\nFrame the face: F\n"
+            "Front / side / top: numpad 1 / 3 / 7 (Ctrl+3: other side)")
+
+    # --- files ---------------------------------------------------------------------------------
+    def maybe_save(self) -> bool:
+        """Ask about unsaved changes; False means the user cancelled."""
+        if not self.doc.modified:
+            return True
+        answer = QMessageBox.warning(
+            self, "Unsaved changes",
+            f"Save the changes to “{self.doc.display_name}” before closing it?",
+            QMessageBox.StandardButton.Save | QMessageBox.StandardButton.Discard
+            | QMessageBox.StandardButton.Cancel)
+        if answer == QMessageBox.StandardButton.Save:
+            return self.save()
+        return answer == QMessageBox.StandardButton.Discard
+
+    def open_path(self, path: Path) -> bool:
+        """Open a project; on failure say why and keep the open project untouched."""
+        from studio.core.project_file import load_project
+
+        try:
+            project = load_project(path)
+        except StudioError as exc:
+            self.show_error("Cannot open project", exc)
+            self._forget_recent(path)
+            return False
+        self.doc.replace_project(project, path)
+        self._remember_recent(path)
+        self.statusBar().showMessage(f"Opened {path}", 5000)
+        return True
+
+    def open_dialog(self) -> None:
+        if not self.maybe_save():
+            return
+        name, _ = QFileDialog.getOpenFileName(self, "Open project", self._last_folder(),
+                                              PROJECT_FILTER)
+        if name:
+            self.open_path(Path(name))
+
+    def open_sample(self) -> None:
+        if self.maybe_save():
+            self.doc.replace_project(sample_project(), None)
+
+    def new_from_files(self) -> None:
+        from studio.widgets.new_project_dialog import NewProjectDialog
+
+        if not self.maybe_save():
+            return
+        dialog = NewProjectDialog(self)
+        if dialog.exec() and dialog.project is not None:
+            self.doc.replace_project(dialog.project, None)
+
+    def save(self) -> bool:
+        if self.doc.path is None:
+            return self.save_as()
+        return self.save_to(self.doc.path)
+
+    def save_as(self) -> bool:
+        start = str(Path(self._last_folder()) / f"{self.doc.display_name}.wrinkle")
+        name, _ = QFileDialog.getSaveFileName(self, "Save project as", start, PROJECT_FILTER)
+        if not name:
+            return False
+        path = Path(name)
+        if path.suffix != ".wrinkle":
+            path = path.with_name(path.name + ".wrinkle")
+        return self.save_to(path)
+
+    def save_to(self, path: Path) -> bool:
+        from studio.core.project_file import save_project
+
+        self.doc.store_view_state()
+        try:
+            save_project(self.doc.project, path)
+        except StudioError as exc:
+            self.show_error("Cannot save project", exc)
+            return False
+        self.doc.mark_saved(path)
+        self._remember_recent(path)
+        self.statusBar().showMessage(f"Saved {path}", 5000)
+        return True
+
+    # --- remembered settings -------------------------------------------------------------------
+    def _last_folder(self) -> str:
+        return str(settings().value("last_folder", str(Path.home())))
+
+    def recent_files(self) -> list[str]:
+        value = settings().value("recent_files", [])
+        return [value] if isinstance(value, str) else list(value or [])
+
+    def _remember_recent(self, path: Path) -> None:
+        path = path.resolve()
+        files = [str(path), *(f for f in self.recent_files() if f != str(path))][:MAX_RECENT]
+        s = settings()
+        s.setValue("recent_files", files)
+        s.setValue("last_folder", str(path.parent))
+
+    def _forget_recent(self, path: Path) -> None:
+        settings().setValue("recent_files",
+                            [f for f in self.recent_files() if f != str(path.resolve())])
+
+    def _fill_recent_menu(self) -> None:
+        self.recent_menu.clear()
+        files = self.recent_files()
+        for name in files:
+            action = self.recent_menu.addAction(Path(name).name)
+            action.setStatusTip(name)
+            action.triggered.connect(lambda _=False, n=name: self.maybe_save()
+                                     and self.open_path(Path(n)))
+        if not files:
+            self.recent_menu.addAction("(none)").setEnabled(False)
+
+    def _restore_layout(self) -> None:
+        s = settings()
+        self._default_state = self.saveState()
+        geometry, state = s.value("window/geometry"), s.value("window/state")
+        if geometry is not None:
+            self.restoreGeometry(geometry)
+        if state is not None:
+            self.restoreState(state)
+
+    def reset_layout(self) -> None:
+        self.restoreState(self._default_state)
+        for title in ("Poses", "Shading"):
+            self.docks[title].show()
+
+    def closeEvent(self, event: QCloseEvent) -> None:
+        if not self.maybe_save():
+            event.ignore()
+            return
+        s = settings()
+        s.setValue("window/geometry", self.saveGeometry())
+        s.setValue("window/state", self.saveState())
+        event.accept()
+
+    def grab_when_rendered(self, out: Path, on_done) -> None:
+        """Save a screenshot of the whole window once the viewport has drawn (docs, CI)."""
+        def grab() -> None:
+            image = self.grab()
+            ok = image.save(str(out))
+            on_done(ok)
+
+        def later() -> None:
+            QTimer.singleShot(300, grab)
+
+        if self.viewport.frames_rendered:
+            later()
+        else:
+            self.firstFrame.connect(later)

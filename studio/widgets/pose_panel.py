@@ -1,0 +1,93 @@
+"""Key-pose weights and technique-1 activations: sliders that deform the face live."""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import (
+    QFormLayout,
+    QGroupBox,
+    QLabel,
+    QProgressBar,
+    QPushButton,
+    QScrollArea,
+    QVBoxLayout,
+    QWidget,
+)
+
+from studio.widgets.document import Document
+from studio.widgets.slider_row import SliderRow
+
+
+def pose_label(name: str) -> str:
+    return name.replace("_", " ").capitalize()
+
+
+class PosePanel(QScrollArea):
+    def __init__(self, document: Document, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = document
+        self.setWidgetResizable(True)
+        self.pose_rows: dict[str, SliderRow] = {}
+        self.area_rows: list[SliderRow] = []
+        self.area_bars: list[QProgressBar] = []
+        self._build()
+        document.projectReplaced.connect(self._build)
+        document.poseWeightsChanged.connect(self._show_values)
+        document.activationsChanged.connect(self._show_values)
+
+    def _build(self) -> None:
+        body = QWidget()
+        layout = QVBoxLayout(body)
+        poses = QGroupBox("Key poses")
+        pose_layout = QVBoxLayout(poses)
+        self.pose_rows = {}
+        for pose in self.doc.project.poses:
+            row = SliderRow(pose_label(pose.name))
+            row.edited.connect(lambda v, g, n=pose.name: self.doc.set_pose_weight(n, v, g))
+            pose_layout.addWidget(row)
+            self.pose_rows[pose.name] = row
+        reset = QPushButton("Back to neutral")
+        reset.setToolTip("Set every key-pose weight to 0")
+        reset.clicked.connect(self._reset_pose)
+        pose_layout.addWidget(reset)
+        layout.addWidget(poses)
+
+        areas = QGroupBox("Influence areas (technique 1)")
+        form = QFormLayout(areas)
+        form.addRow(QLabel("Slider: the area's own activation. Bar: with the pose links."))
+        self.area_rows, self.area_bars = [], []
+        for index, area in enumerate(self.doc.project.influence.areas):
+            row = SliderRow(area.name)
+            row.edited.connect(lambda v, g, i=index: self.doc.set_area_activation(i, v, g))
+            bar = QProgressBar()
+            bar.setRange(0, 100)
+            bar.setMaximumHeight(6)
+            bar.setTextVisible(False)
+            r, g, b = area.colour
+            bar.setStyleSheet(f"QProgressBar::chunk {{ background: rgb({r},{g},{b}); }}")
+            form.addRow(row)
+            form.addRow(bar)
+            self.area_rows.append(row)
+            self.area_bars.append(bar)
+        if not self.area_rows:
+            form.addRow(QLabel("This project has no influence areas."))
+        layout.addWidget(areas)
+        layout.addStretch(1)
+        self.setWidget(body)
+        self._show_values()
+
+    def _reset_pose(self) -> None:
+        macro = self.doc.undo_stack
+        macro.beginMacro("Back to neutral")
+        for name in self.pose_rows:
+            self.doc.set_pose_weight(name, 0.0)
+        macro.endMacro()
+
+    def _show_values(self) -> None:
+        for name, row in self.pose_rows.items():
+            row.set_value(self.doc.pose_weights.get(name, 0.0))
+        activations = self.doc.activations()
+        areas = self.doc.project.influence.areas
+        for row, bar, area, value in zip(self.area_rows, self.area_bars, areas, activations,
+                                         strict=False):
+            row.set_value(area.activation)
+            bar.setValue(round(float(value) * 100))

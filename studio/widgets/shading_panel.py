@@ -1,0 +1,84 @@
+"""How the face is shown: technique, split comparison, debug views, light, and technique 2's
+expression factor and cone angle."""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox, QVBoxLayout, QWidget
+
+from studio.widgets.document import Document
+from studio.widgets.slider_row import SliderRow
+
+TECHNIQUES = [("Technique 2 (wrinkle vectors)", "t2"), ("Technique 1 (influence areas)", "t1"),
+              ("No wrinkles", "none"), ("Split: t1 | t2", "split")]
+DEBUG_VIEWS = [("Shaded", "shaded"), ("Wrinkle visibility (heat map)", "heat"),
+               ("Normals", "normals"), ("UV checker", "uv")]
+
+
+class ShadingPanel(QWidget):
+    def __init__(self, document: Document, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = document
+        layout = QVBoxLayout(self)
+        view_box = QGroupBox("Display")
+        form = QFormLayout(view_box)
+        self.technique = QComboBox()
+        for text, key in TECHNIQUES:
+            self.technique.addItem(text, key)
+        self.technique.setObjectName("technique")
+        self.technique.activated.connect(self._technique_chosen)
+        form.addRow("Technique", self.technique)
+        self.debug_view = QComboBox()
+        for text, key in DEBUG_VIEWS:
+            self.debug_view.addItem(text, key)
+        self.debug_view.activated.connect(
+            lambda: document.set_view(debug_view=self.debug_view.currentData()))
+        form.addRow("View", self.debug_view)
+        self.wireframe = QCheckBox("Wireframe overlay")
+        self.wireframe.toggled.connect(lambda on: document.set_view(wireframe=on))
+        form.addRow(self.wireframe)
+        self.light_azimuth = SliderRow("Light azimuth", -180.0, 180.0, 0, "°")
+        self.light_azimuth.edited.connect(lambda v, _g: document.set_view(light_azimuth=v))
+        self.light_elevation = SliderRow("Light elevation", -90.0, 90.0, 0, "°")
+        self.light_elevation.edited.connect(lambda v, _g: document.set_view(light_elevation=v))
+        form.addRow(self.light_azimuth)
+        form.addRow(self.light_elevation)
+        layout.addWidget(view_box)
+
+        t2_box = QGroupBox("Technique 2")
+        t2_form = QFormLayout(t2_box)
+        self.expression = SliderRow("Expression factor", 0.0, 2.0)
+        self.expression.edited.connect(document.set_expression_factor)
+        self.cone = SliderRow("Cone angle", 1.0, 90.0, 0, "°")
+        self.cone.setToolTip("Half-angle θ_max of the cone around each wrinkle direction "
+                             "(all areas)")
+        self.cone.edited.connect(document.set_cone_angle)
+        t2_form.addRow(self.expression)
+        t2_form.addRow(self.cone)
+        layout.addWidget(t2_box)
+        layout.addStretch(1)
+        for signal in (document.viewChanged, document.wdvChanged, document.projectReplaced):
+            signal.connect(self._show_values)
+        self._show_values()
+
+    def _technique_chosen(self) -> None:
+        key = self.technique.currentData()
+        if key == "split":
+            self.doc.set_view(split=True)
+        else:
+            self.doc.set_view(split=False, technique=key)
+
+    def _show_values(self) -> None:
+        view = self.doc.view
+        key = "split" if view.split else view.technique
+        self.technique.setCurrentIndex(self.technique.findData(key))
+        self.debug_view.setCurrentIndex(self.debug_view.findData(view.debug_view))
+        self.wireframe.blockSignals(True)
+        self.wireframe.setChecked(view.wireframe)
+        self.wireframe.blockSignals(False)
+        self.light_azimuth.set_value(view.light_azimuth)
+        self.light_elevation.set_value(view.light_elevation)
+        wdv = self.doc.project.wdv
+        self.expression.set_value(wdv.expression_factor)
+        angles = [a.cone_angle_deg for a in wdv.areas]
+        self.cone.set_value(angles[0] if angles else 20.0)
+        self.cone.setEnabled(bool(angles))

@@ -1,0 +1,75 @@
+"""A labelled slider with a spin box: the studio's control for one number.
+
+A drag is one gesture (one undo step); each spin-box or keyboard step is its own. Setting the value
+from the document (after an undo, say) does not echo back as an edit.
+"""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QLabel, QSlider, QWidget
+
+from studio.widgets.commands import new_gesture
+
+STEPS = 1000
+
+
+class SliderRow(QWidget):
+    edited = Signal(float, object)  # value, gesture token (None for a single step)
+
+    def __init__(self, label: str, minimum: float = 0.0, maximum: float = 1.0,
+                 decimals: int = 2, suffix: str = "", parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.minimum, self.maximum = minimum, maximum
+        self.label = QLabel(label)
+        self.label.setMinimumWidth(110)
+        self.slider = QSlider(Qt.Orientation.Horizontal)
+        self.slider.setRange(0, STEPS)
+        self.slider.setObjectName(f"slider:{label}")
+        self.spin = QDoubleSpinBox()
+        self.spin.setRange(minimum, maximum)
+        self.spin.setDecimals(decimals)
+        self.spin.setSingleStep((maximum - minimum) / 100.0)
+        self.spin.setSuffix(suffix)
+        self.spin.setKeyboardTracking(False)
+        self.spin.setFixedWidth(78)
+        layout = QHBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addWidget(self.label)
+        layout.addWidget(self.slider, 1)
+        layout.addWidget(self.spin)
+        self._gesture: int | None = None
+        self.slider.sliderPressed.connect(self._begin)
+        self.slider.sliderReleased.connect(self._end)
+        self.slider.valueChanged.connect(self._slider_moved)
+        self.spin.valueChanged.connect(lambda v: self.edited.emit(float(v), None))
+
+    def _to_slider(self, value: float) -> int:
+        span = self.maximum - self.minimum
+        return round((value - self.minimum) / span * STEPS) if span else 0
+
+    def _from_slider(self, position: int) -> float:
+        return self.minimum + (self.maximum - self.minimum) * position / STEPS
+
+    def _begin(self) -> None:
+        self._gesture = new_gesture()
+
+    def _end(self) -> None:
+        self._gesture = None
+
+    def _slider_moved(self, position: int) -> None:
+        value = self._from_slider(position)
+        self.spin.blockSignals(True)
+        self.spin.setValue(value)
+        self.spin.blockSignals(False)
+        self.edited.emit(value, self._gesture)
+
+    def value(self) -> float:
+        return self.spin.value()
+
+    def set_value(self, value: float) -> None:
+        """Show a value that came from the document, without emitting an edit."""
+        for widget, v in ((self.slider, self._to_slider(value)), (self.spin, value)):
+            widget.blockSignals(True)
+            widget.setValue(v)
+            widget.blockSignals(False)

@@ -1,0 +1,199 @@
+"""The live 3D viewport: the foundation's renderer inside a QOpenGLWidget.
+
+Document signals only set dirty flags and schedule a repaint; ``paintGL`` applies them, so GL work
+happens in the widget's context and each change re-uploads only what it touched. Navigation
+follows Blender: middle-drag orbits, Shift+middle pans, Ctrl+middle and the wheel zoom; on a
+laptop Alt+left orbits and Alt+Shift+left pans. F frames the face; numpad 1/3/7 give front,
+side and top views.
+"""
+
+from __future__ import annotations
+
+import time
+
+import moderngl
+from PySide6.QtCore import QPoint, Qt, Signal
+from PySide6.QtGui import QMouseEvent, QWheelEvent
+from PySide6.QtOpenGLWidgets import QOpenGLWidget
+from PySide6.QtWidgets import QLabel, QWidget
+
+from studio.render.renderer import FaceRenderer, RenderSettings
+from studio.render.scene import ProjectScene
+from studio.widgets.document import Document
+
+TECHNIQUE_LABELS = {"none": "No wrinkles", "t1": "Technique 1 · influence areas",
+                    "t2": "Technique 2 · wrinkle direction vectors"}
+
+
+class Viewport(QOpenGLWidget):
+    frameRendered = Signal(float)  # milliseconds the frame took, GPU finish included
+    glFailed = Signal(str)
+
+    def __init__(self, document: Document, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = document
+        self.ctx: moderngl.Context | None = None
+        self.scene: ProjectScene | None = None
+        self.tool = None  # an authoring tool that takes left-button gestures (later issues)
+        self._pending: set[str] = set()
+        self._drag: tuple[str, QPoint] | None = None
+        self.frames_rendered = 0
+        self.setMinimumSize(320, 240)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setMouseTracking(True)
+        self._labels = [self._make_label() for _ in range(2)]
+        self._connect()
+
+    def _make_label(self) -> QLabel:
+        label = QLabel(self)
+        label.setStyleSheet("color: #d8d8d8; background: rgba(20,20,24,150); padding: 3px 7px;"
+                            "border-radius: 3px;")
+        label.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents)
+        return label
+
+    def _connect(self) -> None:
+        d = self.doc
+        d.projectReplaced.connect(lambda: self._invalidate("project"))
+        d.poseWeightsChanged.connect(lambda: self._invalidate("pose"))
+        d.activationsChanged.connect(lambda: self._invalidate("activations"))
+        d.wdvChanged.connect(lambda: self._invalidate("wdv"))
+        d.viewChanged.connect(self._update_labels)
+        d.viewChanged.connect(self.update)
+        d.cameraChanged.connect(self.update)
+
+    def _invalidate(self, what: str) -> None:
+        self._pending.add(what)
+        self.update()
+
+    # --- GL ------------------------------------------------------------------------------------
+    def initializeGL(self) -> None:
+        try:
+            self.ctx = moderngl.create_context(require=330)
+        except Exception as exc:  # moderngl raises plain Exception when GL is missing
+            self.ctx = None
+            self.glFailed.emit(f"OpenGL 3.3 is not available: {exc}")
+            return
+        self.renderer = FaceRenderer(self.ctx)
+        self._pending = {"project"}
+        self._update_labels()
+
+    def _apply_pending(self) -> None:
+        if "project" in self._pending:
+            self.scene = ProjectScene(self.renderer, self.doc.project)
+            self._pending = {"pose"}
+        scene = self.scene
+        if "pose" in self._pending:
+            scene.set_pose_weights(self.doc.pose_weights)
+        elif "activations" in self._pending:
+            scene.reload_activations()
+        if "wdv" in self._pending:
+            scene.reload_wdv()
+        self._pending.clear()
+
+    def paintGL(self) -> None:
+        if self.ctx is None:
+            return
+        start = time.perf_counter()
+        self._apply_pending()
+        fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
+        ratio = self.devicePixelRatioF()
+        w, h = round(self.width() * ratio), round(self.height() * ratio)
+        view = self.doc.view
+        base = dict(view=view.debug_view, wireframe=view.wireframe, light_dir=view.light_dir())
+        if view.split:
+            half = w // 2
+            for x, width, technique in ((0, half, "t1"), (half, w - half, "t2")):
+                self.renderer.render(fbo, self.doc.camera,
+                                     RenderSettings(technique=technique, **base),
+                                     viewport=(x, 0, width, h))
+        else:
+            self.renderer.render(fbo, self.doc.camera,
+                                 RenderSettings(technique=view.technique, **base),
+                                 viewport=(0, 0, w, h))
+        self.ctx.finish()
+        self.frames_rendered += 1
+        self.frameRendered.emit((time.perf_counter() - start) * 1000.0)
+
+    def resizeGL(self, w: int, h: int) -> None:
+        self._update_labels()
+
+    def _update_labels(self) -> None:
+        view = self.doc.view
+        left, right = self._labels
+        if view.split:
+            left.setText(TECHNIQUE_LABELS["t1"])
+            right.setText(TECHNIQUE_LABELS["t2"])
+            right.adjustSize()
+            right.move(self.width() - right.width() - 8, 8)
+            right.show()
+        else:
+            left.setText(TECHNIQUE_LABELS[view.technique])
+            right.hide()
+        left.adjustSize()
+        left.move(8, 8)
+
+    # --- navigation ----------------------------------------------------------------------------
+    def _navigation_for(self, event: QMouseEvent) -> str | None:
+        mods = event.modifiers()
+        button = event.button()
+        shift = bool(mods & Qt.KeyboardModifier.ShiftModifier)
+        if button == Qt.MouseButton.MiddleButton:
+            if mods & Qt.KeyboardModifier.ControlModifier:
+                return "zoom"
+            return "pan" if shift else "orbit"
+        if button == Qt.MouseButton.LeftButton and mods & Qt.KeyboardModifier.AltModifier:
+            return "pan" if shift else "orbit"
+        return None
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:
+        mode = self._navigation_for(event)
+        if mode:
+            self._drag = (mode, event.position().toPoint())
+            event.accept()
+        elif self.tool is not None and event.button() == Qt.MouseButton.LeftButton:
+            self.tool.press(self, event)
+        else:
+            super().mousePressEvent(event)
+
+    def mouseMoveEvent(self, event: QMouseEvent) -> None:
+        if self._drag is None:
+            if self.tool is not None:
+                self.tool.move(self, event)
+            return
+        mode, last = self._drag
+        pos = event.position().toPoint()
+        dx, dy = pos.x() - last.x(), pos.y() - last.y()
+        self._drag = (mode, pos)
+        cam = self.doc.camera
+        if mode == "orbit":
+            cam.orbit(-dx * 0.4, dy * 0.4)
+        elif mode == "pan":
+            cam.pan(-dx / max(self.height(), 1), dy / max(self.height(), 1))
+        else:
+            cam.zoom(1.01 ** dy)
+        self.doc.cameraChanged.emit()
+
+    def mouseReleaseEvent(self, event: QMouseEvent) -> None:
+        if self._drag is not None:
+            self._drag = None
+        elif self.tool is not None and event.button() == Qt.MouseButton.LeftButton:
+            self.tool.release(self, event)
+
+    def wheelEvent(self, event: QWheelEvent) -> None:
+        steps = event.angleDelta().y() / 120.0
+        self.doc.camera.zoom(0.85 ** steps)
+        self.doc.cameraChanged.emit()
+
+    def keyPressEvent(self, event) -> None:
+        key = event.key()
+        keypad = bool(event.modifiers() & Qt.KeyboardModifier.KeypadModifier)
+        views = {Qt.Key.Key_1: (0.0, 0.0), Qt.Key.Key_3: (90.0, 0.0), Qt.Key.Key_7: (0.0, 89.0)}
+        if key in (Qt.Key.Key_F, Qt.Key.Key_Home):
+            self.doc.frame_all()
+        elif keypad and key in views:
+            self.doc.camera.yaw, self.doc.camera.pitch = views[key]
+            if event.modifiers() & Qt.KeyboardModifier.ControlModifier and key == Qt.Key.Key_3:
+                self.doc.camera.yaw = -90.0
+            self.doc.cameraChanged.emit()
+        else:
+            super().keyPressEvent(event)
