@@ -9,6 +9,7 @@ from studio.core.influence import InfluenceSetup
 from studio.core.mesh import FaceMesh
 from studio.core.poses import NEUTRAL, KeyPose, check_pose_topology
 from studio.core.textures import FaceTextures
+from studio.core.timeline import Timeline
 from studio.core.wdv import WdvSetup
 
 
@@ -20,7 +21,9 @@ class Project:
     textures: FaceTextures
     influence: InfluenceSetup = field(default_factory=InfluenceSetup)
     wdv: WdvSetup = field(default_factory=WdvSetup)
+    timeline: Timeline = field(default_factory=Timeline)
     view: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)  # unknown project.json keys, kept for newer tools
 
     def __post_init__(self) -> None:
         for pose in self.poses:

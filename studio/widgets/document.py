@@ -43,9 +43,17 @@ class ViewState:
 
 class Document(QObject):
     projectReplaced = Signal()  # a different project: everything changed
+    posesChanged = Signal()  # the set of key poses (or the mesh) changed
+    texturesChanged = Signal()
     poseWeightsChanged = Signal()
     activationsChanged = Signal()  # technique-1 activation sliders (pose links follow weights)
-    wdvChanged = Signal()  # technique-2 vectors, cone angles, expression factor
+    areasChanged = Signal()  # technique-1 areas: added, removed, renamed, reordered, links
+    masksChanged = Signal()  # technique-1 mask stack replaced (size or count changed)
+    maskRegionChanged = Signal(int, int, int, int, int)  # layer, x, y, w, h (image pixels)
+    wdvChanged = Signal()  # technique-2 areas, vectors, cone angles, expression factor
+    selectionChanged = Signal()  # selected vertices (welded indices)
+    timelineChanged = Signal()  # keys, interpolation, range, frame rate
+    playheadChanged = Signal()  # the current time
     viewChanged = Signal()  # ViewState (technique, debug view, light)
     cameraChanged = Signal()
     pathChanged = Signal()

@@ -36,6 +36,7 @@ class Viewport(QOpenGLWidget):
         self.scene: ProjectScene | None = None
         self.tool = None  # an authoring tool that takes left-button gestures (later issues)
         self._pending: set[str] = set()
+        self._mask_regions: list[tuple[int, int, int, int, int]] = []
         self._drag: tuple[str, QPoint] | None = None
         self.frames_rendered = 0
         self.setMinimumSize(320, 240)
@@ -54,8 +55,13 @@ class Viewport(QOpenGLWidget):
     def _connect(self) -> None:
         d = self.doc
         d.projectReplaced.connect(lambda: self._invalidate("project"))
+        d.posesChanged.connect(lambda: self._invalidate("project"))
+        d.texturesChanged.connect(lambda: self._invalidate("textures"))
         d.poseWeightsChanged.connect(lambda: self._invalidate("pose"))
         d.activationsChanged.connect(lambda: self._invalidate("activations"))
+        d.areasChanged.connect(lambda: self._invalidate("activations"))
+        d.masksChanged.connect(lambda: self._invalidate("masks"))
+        d.maskRegionChanged.connect(self._mask_region_changed)
         d.wdvChanged.connect(lambda: self._invalidate("wdv"))
         d.viewChanged.connect(self._update_labels)
         d.viewChanged.connect(self.update)
@@ -63,6 +69,11 @@ class Viewport(QOpenGLWidget):
 
     def _invalidate(self, what: str) -> None:
         self._pending.add(what)
+        self.update()
+
+    def _mask_region_changed(self, layer: int, x: int, y: int, w: int, h: int) -> None:
+        """A brush dab: upload just that rectangle of that layer at the next frame."""
+        self._mask_regions.append((layer, x, y, w, h))
         self.update()
 
     # --- GL ------------------------------------------------------------------------------------
@@ -78,17 +89,28 @@ class Viewport(QOpenGLWidget):
         self._update_labels()
 
     def _apply_pending(self) -> None:
-        if "project" in self._pending:
+        pending = self._pending
+        if "project" in pending:
             self.scene = ProjectScene(self.renderer, self.doc.project)
-            self._pending = {"pose"}
+            pending = {"pose"}
+            self._mask_regions.clear()
         scene = self.scene
-        if "pose" in self._pending:
+        if "textures" in pending:
+            scene.reload_textures()
+        if "masks" in pending:
+            scene.reload_masks()
+            self._mask_regions.clear()
+        masks = self.doc.project.influence.areas
+        for layer, x, y, w, h in self._mask_regions:
+            self.renderer.update_mask_region(layer, x, y, masks[layer].mask[y:y + h, x:x + w])
+        self._mask_regions.clear()
+        if "pose" in pending:
             scene.set_pose_weights(self.doc.pose_weights)
-        elif "activations" in self._pending:
+        elif "activations" in pending:
             scene.reload_activations()
-        if "wdv" in self._pending:
+        if "wdv" in pending:
             scene.reload_wdv()
-        self._pending.clear()
+        self._pending = set()
 
     def paintGL(self) -> None:
         if self.ctx is None:

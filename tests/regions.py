@@ -1,0 +1,30 @@
+"""Named regions of rendered images: the sample's landmarks projected to pixels."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from studio.core.camera import OrbitCamera
+from studio.core.project import Project
+from studio.core.sample import sample_landmarks
+
+
+def landmark_pixels(project: Project, camera: OrbitCamera, width: int, height: int
+                    ) -> dict[str, tuple[int, int]]:
+    marks = sample_landmarks(project)
+    names = list(marks)
+    px, _ = camera.project(np.array([marks[n] for n in names]), width, height)
+    return {n: (int(np.rint(x)), int(np.rint(y))) for n, (x, y) in zip(names, px, strict=True)}
+
+
+def patch(image: np.ndarray, centre: tuple[int, int], radius: int) -> np.ndarray:
+    x, y = centre
+    return image[max(y - radius, 0):y + radius + 1, max(x - radius, 0):x + radius + 1]
+
+
+def region_difference(a: np.ndarray, b: np.ndarray, centre: tuple[int, int],
+                      radius: int = 12) -> float:
+    """Mean absolute difference (0–255) of two images around a pixel."""
+    pa = patch(a, centre, radius).astype(np.float32)
+    pb = patch(b, centre, radius).astype(np.float32)
+    return float(np.abs(pa - pb).mean())

@@ -1,0 +1,92 @@
+"""The command line renders the sample headlessly and fails with one clear line and exit 2."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from studio.cli import main
+from studio.core.sample import make_sample
+from studio.render.offscreen import default_camera
+from tests.regions import landmark_pixels, region_difference
+
+SIZE = (360, 270)
+
+
+def render_png(tmp_path, *args: str) -> np.ndarray:
+    out = tmp_path / f"{'_'.join(a.strip('-') for a in args)}.png"
+    assert main(["render", *args, "--size", f"{SIZE[0]}x{SIZE[1]}", "-o", str(out)]) == 0
+    image = np.asarray(Image.open(out).convert("RGB"))
+    assert image.shape == (SIZE[1], SIZE[0], 3)
+    return image
+
+
+@pytest.fixture(scope="module")
+def marks():
+    project = make_sample()
+    return landmark_pixels(project, default_camera(project), *SIZE)
+
+
+def test_surprise_t2_differs_from_none_on_forehead_not_chin(tmp_path, marks):
+    t2 = render_png(tmp_path, "--technique", "t2", "--pose", "surprise")
+    none = render_png(tmp_path, "--technique", "none", "--pose", "surprise")
+    assert region_difference(t2, none, marks["forehead"]) > 2.0
+    assert region_difference(t2, none, marks["chin"]) < 0.5
+
+
+def test_squeeze_t2_differs_at_the_eye_corners(tmp_path, marks):
+    t2 = render_png(tmp_path, "--technique", "t2", "--pose", "squeeze")
+    none = render_png(tmp_path, "--technique", "none", "--pose", "squeeze")
+    assert region_difference(t2, none, marks["eye corner right"]) > 2.0
+    assert region_difference(t2, none, marks["chin"]) < 0.5
+
+
+def test_neutral_t1_and_t2_equal_none(tmp_path):
+    none = render_png(tmp_path, "--technique", "none")
+    assert np.array_equal(render_png(tmp_path, "--technique", "t1"), none)
+    assert np.array_equal(render_png(tmp_path, "--technique", "t2"), none)
+
+
+def test_vertices_picks_the_sample_resolution(tmp_path):
+    wired = render_png(tmp_path, "--vertices", "561", "--wireframe", "--technique", "none")
+    fine = render_png(tmp_path, "--vertices", "5151", "--wireframe", "--technique", "none")
+    # the coarse mesh has fewer edges to draw, so less of the face is darkened by them
+    assert wired.mean() > fine.mean()
+
+
+@pytest.mark.parametrize(("args", "needle"), [
+    (["--pose", "grin"], "unknown pose 'grin'"),
+    (["--size", "12xfoo"], "12xfoo"),
+    (["--size", "0x10"], "0x10"),
+    (["--weight", "3"], "--weight"),
+    (["--vertices", "7"], "7"),
+    (["--technique", "t3"], "t3"),
+])
+def test_bad_arguments_give_one_line_and_exit_code_2(tmp_path, capsys, args, needle):
+    with pytest.raises(SystemExit) as exit_info:
+        code = main(["render", *args, "-o", str(tmp_path / "x.png")])
+        raise SystemExit(code)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert needle in err
+    assert len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_missing_project_file_is_one_line(tmp_path, capsys):
+    assert main(["render", str(tmp_path / "nope.wrinkle"), "-o", str(tmp_path / "x.png")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "nope.wrinkle" in err and len(err.splitlines()) == 1
+
+
+def test_real_process_exit_code(tmp_path):
+    result = subprocess.run([sys.executable, "-m", "studio.cli", "render", "--pose", "grin",
+                             "-o", str(tmp_path / "x.png")], capture_output=True, text=True,
+                            timeout=120)
+    assert result.returncode == 2
+    assert "Traceback" not in result.stderr
+    assert result.stderr.strip().startswith("wrinkle-studio: error:")

@@ -1,0 +1,142 @@
+"""The studio window under Xvfb, driven like a user: sliders, undo, files, errors."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QMessageBox
+
+from studio.core.project_file import load_project
+from studio.widgets.main_window import MainWindow
+from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
+from tests.regions import region_difference
+
+
+@pytest.fixture
+def window(qtbot, sample):
+    w = MainWindow(sample)
+    qtbot.addWidget(w)
+    w.resize(1200, 800)
+    w.show()
+    qtbot.waitExposed(w)
+    qtbot.waitUntil(lambda: w.viewport.frames_rendered > 0, timeout=20000)
+    yield w
+    w.doc.undo_stack.setClean()  # no "save changes?" prompt when the test closes it
+
+
+def test_window_starts_on_the_sample_face(window):
+    assert window.doc.project.name == "Sample face"
+    assert "Sample face" in window.windowTitle()
+    image = viewport_image(window)
+    marks = viewport_marks(window)
+    h, w = image.shape[:2]
+    x, y = marks["nose tip"]
+    assert 0 <= x < w and 0 <= y < h
+    background = image[5, w // 2].astype(int)
+    assert np.abs(image[y, x].astype(int) - background).sum() > 40
+    assert window.docks["Poses"].isVisible() and window.docks["Shading"].isVisible()
+
+
+def test_surprise_slider_wrinkles_the_forehead_and_undo_restores_it(window, qtbot):
+    before = viewport_image(window)
+    marks = viewport_marks(window)
+    drag_slider(qtbot, window.pose_panel.pose_rows["surprise"].slider, 1.0)
+    assert window.doc.pose_weights["surprise"] == pytest.approx(1.0, abs=0.01)
+    assert window.doc.undo_stack.count() == 1  # one drag, one undo step
+    assert window.isWindowModified()
+    after = viewport_image(window)
+    assert region_difference(before, after, marks["forehead"]) > 2.0
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert window.doc.pose_weights["surprise"] == 0.0
+    assert window.pose_panel.pose_rows["surprise"].slider.value() == 0
+    assert np.array_equal(viewport_image(window), before)
+    assert not window.isWindowModified()
+
+
+def test_split_view_shows_both_techniques(window):
+    window.doc.set_pose_weight("surprise", 1.0)
+    window.shading_panel.technique.setCurrentIndex(
+        window.shading_panel.technique.findData("split"))
+    window.shading_panel.technique.activated.emit(window.shading_panel.technique.currentIndex())
+    assert window.doc.view.split
+    image = viewport_image(window)
+    w = image.shape[1]
+    left, right = image[:, : w // 2], image[:, w - w // 2:]
+    assert np.abs(left.astype(int) - right.astype(int)).mean() > 0.5
+    labels = [lbl.text() for lbl in window.viewport._labels if lbl.isVisible()]
+    assert any("Technique 1" in t for t in labels) and any("Technique 2" in t for t in labels)
+
+
+def test_save_then_open_gives_an_equal_document(window, tmp_path):
+    window.doc.set_pose_weight("frown", 0.6)
+    window.doc.set_expression_factor(0.7)
+    path = tmp_path / "face.wrinkle"
+    assert window.save_to(path)
+    assert not window.isWindowModified()
+    assert "face" in window.windowTitle()
+    image = viewport_image(window)
+    original = window.doc.project
+    reopened = load_project(path)
+    for name in ("rest", "triangles", "uvs", "weld"):
+        assert np.array_equal(getattr(reopened.mesh, name), getattr(original.mesh, name))
+    for a, b in zip(reopened.poses, original.poses, strict=True):
+        assert a.name == b.name and np.array_equal(a.positions, b.positions)
+    for name in ("diffuse", "normal_neutral", "normal_wrinkled"):
+        assert np.array_equal(getattr(reopened.textures, name), getattr(original.textures, name))
+    for a, b in zip(reopened.influence.areas, original.influence.areas, strict=True):
+        assert a.name == b.name and np.abs(a.mask - b.mask).max() <= 1 / 65535
+    assert reopened.wdv.expression_factor == pytest.approx(0.7)
+    for a, b in zip(reopened.wdv.areas, original.wdv.areas, strict=True):
+        assert np.array_equal(a.directions, b.directions)
+    assert window.open_path(path)
+    assert window.doc.pose_weights["frown"] == pytest.approx(0.6)
+    assert np.array_equal(viewport_image(window), image)
+
+
+def test_a_corrupt_file_shows_an_error_and_keeps_the_project(window, tmp_path, monkeypatch):
+    bad = tmp_path / "broken.wrinkle"
+    bad.write_bytes(b"PK\x03\x04 this is not really a zip")
+    shown = []
+    monkeypatch.setattr(QMessageBox, "critical", lambda *a, **k: shown.append(a[2]))
+    project = window.doc.project
+    window.doc.set_pose_weight("surprise", 0.5)
+    assert not window.open_path(bad)
+    assert len(shown) == 1 and "broken.wrinkle" in shown[0]
+    assert window.doc.project is project
+    assert window.doc.pose_weights["surprise"] == 0.5
+    assert window.doc.undo_stack.count() == 1
+
+
+def test_expression_factor_control_is_undoable(window, qtbot):
+    row = window.shading_panel.expression
+    row.spin.setValue(0.25)
+    assert window.doc.project.wdv.expression_factor == pytest.approx(0.25)
+    window.doc.undo_stack.undo()
+    assert window.doc.project.wdv.expression_factor == pytest.approx(1.0)
+    assert row.value() == pytest.approx(1.0)
+
+
+def test_f_frames_the_face_after_zooming(window, qtbot):
+    distance = window.doc.camera.distance
+    window.doc.camera.zoom(3.0)
+    window.viewport.setFocus()
+    qtbot.keyClick(window.viewport, Qt.Key.Key_F)
+    assert window.doc.camera.distance == pytest.approx(distance)
+
+
+def test_screenshot_command_writes_the_window(tmp_path):
+    out = tmp_path / "shot.png"
+    env = dict(os.environ)
+    result = subprocess.run([sys.executable, "-m", "studio.cli", "--screenshot", str(out)],
+                            capture_output=True, text=True, timeout=180, env=env)
+    assert result.returncode == 0, result.stderr
+    from PIL import Image
+
+    image = np.asarray(Image.open(out).convert("RGB"))
+    assert image.shape[0] > 400 and image.shape[1] > 600
+    assert image.std() > 10  # not a blank window
