@@ -13,7 +13,7 @@ from studio.render.renderer import RenderSettings
 from tests.regions import landmark_pixels, region_difference
 
 W, H = 400, 300
-CHANGED = 2.0  # mean abs difference (0-255) that counts as a visible change in a region
+CHANGED = 4.0  # region difference (0-255, see regions.py) that counts as a visible change
 SAME = 0.5  # ... and below which a region counts as unchanged
 
 

@@ -46,12 +46,19 @@ class OrbitCamera:
     fov_y: float = 30.0
     radius: float = 1.0  # size of what is framed; sets the clipping planes
 
-    def frame(self, lo: Array, hi: Array, margin: float = 1.08) -> None:
-        """Centre on a bounding box and back off until it fits the view (any model size)."""
+    def frame(self, lo: Array, hi: Array, margin: float = 1.1) -> None:
+        """Centre on a bounding box and back off until its corners fit a square view, seen
+        from the current direction (so any model size or position frames well)."""
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
         self.target = (lo + hi) / 2.0
         self.radius = max(float(np.linalg.norm(hi - lo)) / 2.0, 1e-6)
-        self.distance = margin * self.radius / math.sin(math.radians(self.fov_y) / 2.0)
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                            for z in (lo[2], hi[2])]) - self.target
+        view = look_at(self.direction(), np.zeros(3), np.array([0.0, 1.0, 0.0]))
+        right, up, toward = corners @ view[0, :3], corners @ view[1, :3], -(corners @ view[2, :3])
+        tan_half = math.tan(math.radians(self.fov_y) / 2.0)
+        needed = np.maximum(np.abs(right), np.abs(up)) * margin / tan_half - toward
+        self.distance = max(float(needed.max()), self.radius * 0.1)
 
     def direction(self) -> Array:
         """Unit vector from the target toward the eye."""

@@ -17,16 +17,16 @@ class ProjectScene:
         self.renderer = renderer
         self.project = project
         self.weights: dict[str, float] = {}
-        self.reload_mesh()
         self.reload_textures()
         self.reload_masks()
-        self.reload_wdv()
+        self.reload_mesh()
 
     def reload_mesh(self) -> None:
-        """After the mesh or the set of key poses changed."""
+        """After the mesh or the set of key poses changed (the WDVs are per vertex, so too)."""
         project = self.project
         self.blender = PoseBlender(project.mesh.rest, project.poses)
         self.renderer.set_mesh(project.mesh)
+        self.reload_wdv()
         self.set_pose_weights(self.weights)
 
     def reload_textures(self) -> None:

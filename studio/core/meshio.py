@@ -1,0 +1,482 @@
+"""Loading face meshes and key poses (SPEC §2), and writing meshes back out as OBJ.
+
+OBJ — what artists exchange face models and blend shapes in — is read by our own parser, so the
+file's ``v`` order survives exactly: welded position ``i`` is the file's ``v`` number ``i + 1``,
+which is what lets a key pose exported from the same scene line up vertex for vertex. Render
+vertices are split wherever one ``v`` is used with different ``vt`` (UV seams).
+
+Other formats (PLY, glTF/GLB, OFF, ...) go through trimesh; their render vertices are the file's
+vertices and positions that coincide exactly are welded.
+
+Every problem a user can cause raises ``MeshError`` naming the file and, where it helps, the line,
+face or vertex (numbered from 1, as in the file) — never a bare traceback.
+"""
+
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from studio.core.errors import MeshError
+from studio.core.mesh import FaceMesh
+from studio.core.poses import KeyPose
+
+Array = np.ndarray
+
+# Polygon structure of meshes read from OBJ, so a key pose can be checked face by face (not only
+# triangle by triangle) and its errors name the file's face numbers. Kept beside FaceMesh rather
+# than in it, and dropped with the mesh.
+_OBJ_POLYGONS: weakref.WeakKeyDictionary[FaceMesh, tuple[Array, Array]] = (
+    weakref.WeakKeyDictionary()
+)
+
+_MISSING = np.iinfo(np.int64).min  # a face corner without a texture index
+
+
+@dataclass
+class _ObjData:
+    """What the OBJ parser read: positions, UVs and polygons with 0-based, resolved indices."""
+
+    positions: Array  # (N, 3) float64, file order
+    uvs: Array  # (M, 2) float64
+    sizes: Array  # (P,) corners per polygon
+    corner_v: Array  # (C,) intp
+    corner_vt: Array  # (C,) intp, _MISSING where a corner has no vt
+    face_lines: Array  # (P,) line of each polygon, for messages
+
+
+# --------------------------------------------------------------------------------------------
+# Public API
+# --------------------------------------------------------------------------------------------
+
+
+def load_mesh(path: str | Path) -> FaceMesh:
+    """Read a face mesh: OBJ with our parser, other formats through trimesh."""
+    path = Path(path)
+    _check_readable(path)
+    if path.suffix.lower() == ".obj":
+        data = _parse_obj(path, _read_text(path))
+        mesh = _mesh_from_obj(path, data)
+        _OBJ_POLYGONS[mesh] = (data.sizes, data.corner_v)
+        return mesh
+    positions, faces, uvs = _load_with_trimesh(path, need_uvs=True)
+    assert uvs is not None
+    return _mesh_from_render_vertices(path, positions, faces, uvs)
+
+
+def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyPose:
+    """Read a key pose: a mesh with the neutral mesh's topology (name defaults to the file stem).
+
+    OBJ poses must have the same ``v`` count and faces over the same ``v`` indices as the neutral
+    OBJ — strictly, the same triangles once polygons are fanned, so a pose re-saved as triangles
+    still fits; UVs are ignored. Poses in other formats must have the same vertices and faces,
+    and vertices welded in the neutral mesh must coincide. The first mismatch is reported (face
+    and vertex numbers from 1, as in the file) so a user can find it in their modelling tool.
+    """
+    path = Path(path)
+    name = path.stem if name is None else name
+    _check_readable(path)
+    if path.suffix.lower() == ".obj":
+        data = _parse_obj(path, _read_text(path))
+        _check_obj_pose(path, data, mesh)
+        return KeyPose(name=name, positions=data.positions)
+    positions, faces, _ = _load_with_trimesh(path, need_uvs=False)
+    if len(positions) != mesh.n_vertices:
+        raise MeshError(
+            f"has {len(positions)} vertices, the neutral mesh has {mesh.n_vertices}", path
+        )
+    _check_same_triangles(path, faces, mesh.triangles)
+    # Welded positions from each welded vertex's first render copy; the other copies must agree.
+    _, first = np.unique(mesh.weld, return_index=True)
+    welded = mesh.rest.astype(np.float64)
+    welded[mesh.weld[first]] = positions[first]
+    apart = np.abs(welded[mesh.weld] - positions).max(axis=1)
+    extent = max(float(np.ptp(positions, axis=0).max()), 1e-30)
+    torn = apart > 1e-6 * extent
+    if torn.any():
+        i = int(np.argmax(torn))
+        j = int(np.argmax(mesh.weld == mesh.weld[i]))
+        raise MeshError(
+            f"vertices {j + 1} and {i + 1} are one point in the neutral mesh but apart in "
+            "this pose",
+            path,
+        )
+    return KeyPose(name=name, positions=welded)
+
+
+def save_obj(path: str | Path, mesh: FaceMesh, positions: Array | KeyPose | None = None) -> None:
+    """Write the mesh (or a pose's welded positions on its topology) as OBJ with ``v/vt`` faces.
+
+    Welded positions become the ``v`` lines in order, so ``load_mesh``/``load_pose`` read the
+    file back with the same welded numbering.
+    """
+    path = Path(path)
+    if positions is None:
+        pos = mesh.rest
+    elif isinstance(positions, KeyPose):
+        pos = positions.positions
+    else:
+        pos = np.asarray(positions)
+    if pos.shape != mesh.rest.shape:
+        raise MeshError(
+            f"cannot save positions of shape {pos.shape} on a mesh of {mesh.n_welded} vertices",
+            path,
+        )
+    corners = np.stack([mesh.weld[mesh.triangles] + 1, mesh.triangles + 1], axis=2)
+    try:
+        with path.open("w", encoding="utf-8", newline="\n") as fh:
+            fh.write("# Wrinkle Studio mesh\n")
+            np.savetxt(fh, pos, fmt="v %.9g %.9g %.9g")
+            np.savetxt(fh, mesh.uvs, fmt="vt %.9g %.9g")
+            np.savetxt(fh, corners.reshape(len(corners), 6), fmt="f %d/%d %d/%d %d/%d")
+    except OSError as exc:
+        raise MeshError(f"cannot write the file ({exc.strerror or exc})", path) from exc
+
+
+# --------------------------------------------------------------------------------------------
+# Reading files
+# --------------------------------------------------------------------------------------------
+
+
+def _check_readable(path: Path) -> None:
+    if not path.exists():
+        raise MeshError("file not found", path)
+    if not path.is_file():
+        raise MeshError("not a file", path)
+
+
+def _read_text(path: Path) -> str:
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise MeshError(f"cannot read the file ({exc.strerror or exc})", path) from exc
+    if not raw.strip():
+        raise MeshError("the file is empty", path)
+    if b"\x00" in raw[:4096]:
+        raise MeshError("not an OBJ mesh (the file is binary)", path)
+    return raw.decode("utf-8", errors="replace")
+
+
+def _parse_obj(path: Path, text: str) -> _ObjData:
+    """Parse ``v``, ``vt`` and ``f``; everything else (vn, o, g, usemtl, s, ...) is ignored.
+
+    The loop over lines only sorts tokens; numbers are converted in bulk by numpy, and only when
+    that fails is the file walked again to say which line is wrong.
+    """
+    v_tok: list[list[str]] = []
+    v_line: list[int] = []
+    vt_tok: list[list[str]] = []
+    vt_line: list[int] = []
+    corners: list[str] = []
+    sizes: list[int] = []
+    f_line: list[int] = []
+    f_nv: list[int] = []  # vertices defined before the face: base of negative indices
+    f_nvt: list[int] = []
+    for lineno, line in enumerate(text.splitlines(), 1):
+        parts = line.split()
+        if not parts:
+            continue
+        key = parts[0]
+        if key == "v":
+            if len(parts) < 4:
+                raise MeshError(f"line {lineno}: a vertex needs three coordinates", path)
+            v_tok.append(parts[1:4])
+            v_line.append(lineno)
+        elif key == "vt":
+            if len(parts) < 3:
+                raise MeshError(
+                    f"line {lineno}: a texture coordinate needs two numbers (u v)", path
+                )
+            vt_tok.append(parts[1:3])
+            vt_line.append(lineno)
+        elif key == "f":
+            if len(parts) < 4:
+                raise MeshError(
+                    f"line {lineno}: face {len(sizes) + 1} has {len(parts) - 1} "
+                    "vertices; a face needs at least 3",
+                    path,
+                )
+            corners.extend(parts[1:])
+            sizes.append(len(parts) - 1)
+            f_line.append(lineno)
+            f_nv.append(len(v_tok))
+            f_nvt.append(len(vt_tok))
+    if not v_tok:
+        raise MeshError("not an OBJ mesh: no vertices ('v' lines) found", path)
+    if not sizes:
+        raise MeshError("the mesh has no faces ('f' lines)", path)
+
+    positions = _floats(path, v_tok, v_line, "vertex coordinates")
+    bad = ~np.isfinite(positions).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise MeshError(
+            f"vertex {i + 1} (line {v_line[i]}) has a non-finite coordinate (NaN or infinity)",
+            path,
+        )
+    uvs = _floats(path, vt_tok, vt_line, "texture coordinates").reshape(-1, 2)
+    bad = ~np.isfinite(uvs).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise MeshError(
+            f"texture coordinate {i + 1} (line {vt_line[i]}) is not finite (NaN or infinity)",
+            path,
+        )
+
+    size_arr = np.asarray(sizes, dtype=np.intp)
+    lines = np.asarray(f_line, dtype=np.intp)
+    raw_v, raw_vt = _face_indices(path, corners, size_arr, lines)
+    corner_v = _resolve(path, raw_v, np.asarray(f_nv), len(positions), size_arr, lines, "vertex")
+    corner_vt = _resolve(
+        path, raw_vt, np.asarray(f_nvt), len(uvs), size_arr, lines, "texture coordinate"
+    )
+    return _ObjData(positions, uvs, size_arr, corner_v, corner_vt, lines)
+
+
+def _floats(path: Path, tokens: list[list[str]], lines: list[int], what: str) -> Array:
+    if not tokens:
+        return np.zeros((0, 3), dtype=np.float64)
+    try:
+        return np.array(tokens, dtype=np.float64)
+    except ValueError:
+        for tok, lineno in zip(tokens, lines, strict=True):
+            try:
+                [float(x) for x in tok]
+            except ValueError:
+                raise MeshError(
+                    f"line {lineno}: cannot read the {what} '{' '.join(tok)}'", path
+                ) from None
+        raise MeshError(f"cannot read the {what}", path) from None
+
+
+def _face_indices(
+    path: Path, corners: list[str], sizes: Array, lines: Array
+) -> tuple[Array, Array]:
+    """Raw (1-based or negative) ``v`` and ``vt`` indices of every face corner.
+
+    Fast path: every corner written alike (``v``, ``v/vt`` or ``v/vt/vn``) is one numpy
+    conversion. Anything else (``v//vn``, mixed forms, junk) takes the per-corner path, which
+    also finds the line of a bad token.
+    """
+    n = len(corners)
+    joined = " ".join(corners)
+    slashes = joined.count("/")
+    if "//" not in joined and slashes in (0, n, 2 * n):
+        width = slashes // n + 1
+        try:
+            numbers = np.array(joined.replace("/", " ").split(), dtype=np.int64)
+        except (ValueError, OverflowError):
+            numbers = None
+        if numbers is not None and numbers.size == n * width:
+            numbers = numbers.reshape(n, width)
+            if width == 1:
+                return numbers[:, 0], np.full(n, _MISSING, dtype=np.int64)
+            return numbers[:, 0], numbers[:, 1]
+
+    raw_v = np.empty(n, dtype=np.int64)
+    raw_vt = np.full(n, _MISSING, dtype=np.int64)
+    line_of = np.repeat(lines, sizes)
+    for i, tok in enumerate(corners):
+        fields = tok.split("/")
+        try:
+            raw_v[i] = int(fields[0])
+            if len(fields) > 1 and fields[1]:
+                raw_vt[i] = int(fields[1])
+        except (ValueError, OverflowError):
+            raise MeshError(
+                f"line {int(line_of[i])}: cannot read the face corner '{tok}'", path
+            ) from None
+    return raw_v, raw_vt
+
+
+def _resolve(
+    path: Path, raw: Array, defined_before: Array, total: int, sizes: Array, lines: Array, what: str
+) -> Array:
+    """0-based indices from OBJ's 1-based and negative (relative) ones, range-checked.
+
+    Corners marked ``_MISSING`` (no texture index) stay ``_MISSING``.
+    """
+    base = np.repeat(np.asarray(defined_before, dtype=np.int64), sizes)
+    missing = raw == _MISSING
+    raw = np.where(missing, 1, raw)
+    index = np.where(raw > 0, raw - 1, base + raw)
+    bad = ((raw == 0) | (index < 0) | (index >= total)) & ~missing
+    if bad.any():
+        c = int(np.argmax(bad))
+        face = int(np.searchsorted(np.cumsum(sizes), c, side="right"))
+        have = f"only {int(base[c])} come before it" if raw[c] < 0 else f"the file has {total}"
+        raise MeshError(
+            f"face {face + 1} (line {int(lines[face])}) refers to {what} {int(raw[c])}, but {have}",
+            path,
+        )
+    index[missing] = _MISSING
+    return index
+
+
+def _fan_triangles(sizes: Array) -> Array:
+    """Corner indices of the fan triangulation ``(c0, ci, ci+1)`` of each polygon."""
+    starts = np.cumsum(sizes) - sizes
+    per_face = sizes - 2
+    face = np.repeat(np.arange(len(sizes)), per_face)
+    k = np.arange(int(per_face.sum())) - np.repeat(np.cumsum(per_face) - per_face, per_face) + 1
+    base = starts[face]
+    return np.stack([base, base + k, base + k + 1], axis=1)
+
+
+def _mesh_from_obj(path: Path, data: _ObjData) -> FaceMesh:
+    """Split render vertices per distinct ``(v, vt)`` pair; ``weld`` is the ``v`` index."""
+    missing = data.corner_vt == _MISSING
+    if missing.any():
+        if len(data.uvs) == 0:
+            raise MeshError("the mesh has no texture coordinates (UVs); export it with UVs", path)
+        c = int(np.argmax(missing))
+        face = int(np.searchsorted(np.cumsum(data.sizes), c, side="right"))
+        raise MeshError(
+            f"face {face + 1} (line {int(data.face_lines[face])}) has no texture coordinates",
+            path,
+        )
+    n_vt = len(data.uvs)
+    key = data.corner_v.astype(np.int64) * n_vt + data.corner_vt
+    unique, inverse = np.unique(key, return_inverse=True)
+    triangles = inverse.reshape(-1)[_fan_triangles(data.sizes)]
+    return FaceMesh(
+        rest=data.positions,
+        triangles=triangles,
+        uvs=data.uvs[unique % n_vt],
+        weld=unique // n_vt,
+        source=str(path),
+    )
+
+
+def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array | None]:
+    """Vertices, triangles and (if any) UVs of a mesh file trimesh can read."""
+    suffix = path.suffix.lower().lstrip(".")
+    try:
+        import trimesh
+    except ImportError as exc:  # pragma: no cover - trimesh is a dependency
+        raise MeshError(f"cannot read .{suffix} files: trimesh is not installed", path) from exc
+    formats = {f for f in trimesh.available_formats() if "." not in f}
+    formats -= {"obj", "xyz", "zip", "bz2"}
+    if suffix not in formats:
+        known = ", ".join(sorted({"obj", *formats}))
+        raise MeshError(f"unknown mesh format '{path.suffix}' (known: {known})", path)
+    try:
+        if path.stat().st_size == 0:
+            raise MeshError("the file is empty", path)
+        loaded = trimesh.load(str(path), force="mesh", process=False)
+    except MeshError:
+        raise
+    except Exception as exc:  # trimesh raises many kinds; the user needs one message
+        raise MeshError(f"cannot read the mesh ({type(exc).__name__}: {exc})", path) from exc
+    if not isinstance(loaded, trimesh.Trimesh):
+        raise MeshError("the file holds no triangle mesh", path)
+    try:
+        positions = np.asarray(loaded.vertices, dtype=np.float64).reshape(-1, 3)
+        faces = np.asarray(loaded.faces, dtype=np.int64).reshape(-1, 3)
+        uv = getattr(loaded.visual, "uv", None)
+        uvs = None if uv is None else np.asarray(uv, dtype=np.float64)
+    except (ValueError, TypeError) as exc:
+        raise MeshError(f"cannot read the mesh ({exc})", path) from exc
+    if len(positions) == 0:
+        raise MeshError("the mesh is empty (no vertices)", path)
+    if len(faces) == 0:
+        raise MeshError("the mesh has no faces", path)
+    bad = ~np.isfinite(positions).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise MeshError(f"vertex {i + 1} has a non-finite coordinate (NaN or infinity)", path)
+    out_of_range = (faces < 0) | (faces >= len(positions))
+    if out_of_range.any():
+        f = int(np.argmax(out_of_range.any(axis=1)))
+        raise MeshError(
+            f"face {f + 1} refers to a vertex that does not exist (the mesh has {len(positions)})",
+            path,
+        )
+    if need_uvs:
+        if uvs is None or uvs.ndim != 2 or uvs.shape[0] != len(positions) or uvs.shape[1] < 2:
+            raise MeshError("the mesh has no texture coordinates (UVs); export it with UVs", path)
+        uvs = uvs[:, :2]
+        if not np.isfinite(uvs).all():
+            i = int(np.argmax(~np.isfinite(uvs).all(axis=1)))
+            raise MeshError(f"vertex {i + 1} has a non-finite texture coordinate", path)
+    return positions, faces, uvs
+
+
+def _mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: Array) -> FaceMesh:
+    """Weld render vertices whose positions are identical, keeping first-occurrence order."""
+    _, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return FaceMesh(
+        rest=positions[first[order]],
+        triangles=faces,
+        uvs=uvs,
+        weld=rank[inverse.reshape(-1)],
+        source=str(path),
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# Checking key poses
+# --------------------------------------------------------------------------------------------
+
+
+def _check_obj_pose(path: Path, data: _ObjData, mesh: FaceMesh) -> None:
+    if len(data.positions) != mesh.n_welded:
+        raise MeshError(
+            f"has {len(data.positions)} vertices, the neutral mesh has {mesh.n_welded}", path
+        )
+    # Same triangles is what matters (a pose saved by save_obj has only triangles even when the
+    # neutral file had quads). When they differ, the first mismatching face is named in the
+    # file's own terms if the neutral mesh's polygons are known.
+    tris = data.corner_v[_fan_triangles(data.sizes)]
+    if np.array_equal(tris, mesh.welded_triangles):
+        return
+    polygons = _OBJ_POLYGONS.get(mesh)
+    if polygons is None:  # e.g. a neutral mesh restored from a project file
+        _check_same_triangles(path, tris, mesh.welded_triangles)
+        return
+    sizes, corners = polygons
+    if len(data.sizes) != len(sizes):
+        raise MeshError(f"has {len(data.sizes)} faces, the neutral mesh has {len(sizes)}", path)
+    size_differs = np.flatnonzero(data.sizes != sizes)
+    first_bad = int(size_differs[0]) if len(size_differs) else len(sizes)
+    n_same = int(sizes[:first_bad].sum())  # corners that line up before any size differs
+    corner_differs = np.flatnonzero(data.corner_v[:n_same] != corners[:n_same])
+    if len(corner_differs):
+        face = int(np.searchsorted(np.cumsum(sizes), corner_differs[0], side="right"))
+        first_bad = min(first_bad, face)
+    if first_bad < len(sizes):
+        starts_pose = np.cumsum(data.sizes) - data.sizes
+        starts_neutral = np.cumsum(sizes) - sizes
+        mine = data.corner_v[
+            starts_pose[first_bad] : starts_pose[first_bad] + data.sizes[first_bad]
+        ]
+        theirs = corners[starts_neutral[first_bad] : starts_neutral[first_bad] + sizes[first_bad]]
+        raise MeshError(
+            f"face {first_bad + 1} (line {int(data.face_lines[first_bad])}) uses vertices "
+            f"{_one_based(mine)}, the neutral mesh's face {first_bad + 1} uses "
+            f"{_one_based(theirs)}",
+            path,
+        )
+
+
+def _check_same_triangles(path: Path, tris: Array, neutral: Array) -> None:
+    if len(tris) != len(neutral):
+        raise MeshError(f"has {len(tris)} triangles, the neutral mesh has {len(neutral)}", path)
+    differs = np.flatnonzero((np.asarray(tris) != neutral).any(axis=1))
+    if len(differs):
+        i = int(differs[0])
+        raise MeshError(
+            f"triangle {i + 1} uses vertices {_one_based(tris[i])}, the neutral mesh's "
+            f"triangle {i + 1} uses {_one_based(neutral[i])}",
+            path,
+        )
+
+
+def _one_based(indices: Array) -> str:
+    return "(" + ", ".join(str(int(i) + 1) for i in indices) + ")"
