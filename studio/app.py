@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -9,7 +10,13 @@ from PySide6.QtGui import QSurfaceFormat
 
 
 def configure_opengl() -> None:
-    """OpenGL 3.3 core with a depth buffer; must run before the QApplication exists."""
+    """OpenGL 3.3 core with a depth buffer; must run before the QApplication exists.
+
+    On X11, Qt is asked for EGL rather than GLX: the command line's and the exporter's
+    standalone contexts are EGL, and GLX and EGL contexts in one process break Qt's.
+    """
+    if sys.platform.startswith("linux"):
+        os.environ.setdefault("QT_XCB_GL_INTEGRATION", "xcb_egl")
     fmt = QSurfaceFormat()
     fmt.setVersion(3, 3)
     fmt.setProfile(QSurfaceFormat.OpenGLContextProfile.CoreProfile)

@@ -82,13 +82,13 @@ def run_render(args: argparse.Namespace) -> int:
         raise StudioError(f"--weight {args.weight}: a pose weight is between 0 and 1")
     project = load_project_or_sample(args.project, args.vertices)
     weights = project.single_pose_weights(args.pose, args.weight)
-    studio = OffscreenStudio(project, *args.size)
-    if args.yaw is not None:
-        studio.camera.yaw = args.yaw
-    if args.pitch is not None:
-        studio.camera.pitch = args.pitch
     settings = RenderSettings(technique=args.technique, view=args.view, wireframe=args.wireframe)
-    image = studio.render(settings, weights)
+    with OffscreenStudio(project, *args.size) as studio:
+        if args.yaw is not None:
+            studio.camera.yaw = args.yaw
+        if args.pitch is not None:
+            studio.camera.pitch = args.pitch
+        image = studio.render(settings, weights)
     out = Path(args.output)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)

@@ -20,9 +20,10 @@ def pytest_configure(config: pytest.Config) -> None:
     configure_opengl()
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def gl_context():
-    """One standalone EGL context for every renderer test (no display needed)."""
+    """A standalone EGL context for a module's renderer tests (no display needed); released
+    afterwards, because a standalone context left current stops Qt's viewport drawing."""
     from studio.render.offscreen import create_standalone_context
 
     ctx = create_standalone_context()
@@ -36,3 +37,26 @@ def sample():
     from studio.core.sample import make_sample
 
     return copy.deepcopy(make_sample())
+
+
+@pytest.fixture
+def dialogs(monkeypatch):
+    """Message boxes a GUI test provoked, recorded instead of waiting for a click."""
+    shown: list[tuple[str, str]] = []
+    try:
+        from PySide6.QtWidgets import QMessageBox
+    except ImportError:
+        return shown
+
+    def record(kind, answer):
+        def show(parent, title, text, *args, **kwargs):
+            shown.append((kind, text))
+            return answer
+        return show
+
+    for kind, answer in (("critical", QMessageBox.StandardButton.Ok),
+                         ("warning", QMessageBox.StandardButton.Discard),
+                         ("information", QMessageBox.StandardButton.Ok),
+                         ("question", QMessageBox.StandardButton.Yes)):
+        monkeypatch.setattr(QMessageBox, kind, staticmethod(record(kind, answer)))
+    return shown

@@ -65,6 +65,7 @@ class OffscreenStudio:
 
     def __init__(self, project: Project, width: int, height: int, samples: int = 4,
                  ctx: moderngl.Context | None = None) -> None:
+        self._owns_context = ctx is None
         self.ctx = ctx or create_standalone_context()
         self.target = OffscreenTarget(self.ctx, width, height, samples)
         self.renderer = FaceRenderer(self.ctx)
@@ -79,5 +80,15 @@ class OffscreenStudio:
         return self.target.read()
 
     def release(self) -> None:
+        """Free the GPU objects, and the context if this studio made it (a standalone context
+        left current would stop Qt's viewport from drawing in the same process)."""
         self.renderer.release()
         self.target.release()
+        if self._owns_context:
+            self.ctx.release()
+
+    def __enter__(self) -> OffscreenStudio:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.release()

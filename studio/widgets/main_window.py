@@ -137,7 +137,8 @@ class MainWindow(QMainWindow):
             self.firstFrame.emit()
 
     def _gl_failed(self, message: str) -> None:
-        QMessageBox.critical(self, "Wrinkle Studio", message)
+        self.statusBar().showMessage(message)
+        QTimer.singleShot(0, lambda: QMessageBox.critical(self, "Wrinkle Studio", message))
 
     def show_error(self, title: str, error: Exception) -> None:
         QMessageBox.critical(self, title, str(error))

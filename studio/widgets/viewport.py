@@ -17,12 +17,31 @@ from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 from PySide6.QtWidgets import QLabel, QWidget
 
+from studio.core.errors import RenderError
 from studio.render.renderer import FaceRenderer, RenderSettings
 from studio.render.scene import ProjectScene
 from studio.widgets.document import Document
 
 TECHNIQUE_LABELS = {"none": "No wrinkles", "t1": "Technique 1 · influence areas",
                     "t2": "Technique 2 · wrinkle direction vectors"}
+
+
+def attach_to_current_context() -> moderngl.Context:
+    """A fresh moderngl context on the one Qt made current, whether Qt uses EGL or GLX.
+
+    (``moderngl.create_context`` detects through GLX only once a default context exists, which
+    fails for a second viewport when Qt runs on EGL; ``init_context`` always re-detects.)
+    """
+    try:
+        moderngl.init_context()
+        ctx = moderngl.get_context()
+    except Exception as exc:  # the GL loaders raise plain Exception
+        raise RenderError(f"OpenGL is not available, so the viewport cannot draw ({exc}). "
+                          "Update the graphics driver (or install Mesa).") from None
+    if ctx.version_code < 330:
+        raise RenderError(f"the viewport needs OpenGL 3.3; this driver offers "
+                          f"{ctx.version_code // 100}.{ctx.version_code % 100 // 10}")
+    return ctx
 
 
 class Viewport(QOpenGLWidget):
@@ -79,10 +98,10 @@ class Viewport(QOpenGLWidget):
     # --- GL ------------------------------------------------------------------------------------
     def initializeGL(self) -> None:
         try:
-            self.ctx = moderngl.create_context(require=330)
-        except Exception as exc:  # moderngl raises plain Exception when GL is missing
+            self.ctx = attach_to_current_context()
+        except RenderError as exc:
             self.ctx = None
-            self.glFailed.emit(f"OpenGL 3.3 is not available: {exc}")
+            self.glFailed.emit(str(exc))
             return
         self.renderer = FaceRenderer(self.ctx)
         self._pending = {"project"}
