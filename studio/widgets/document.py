@@ -74,6 +74,10 @@ class Document(QObject):
             k: float(v) for k, v in project.view.get("pose_weights", {}).items()
             if k in project.pose_names}
         self.view = ViewState.from_dict(project.view.get("view", {}))
+        # selected vertices (welded indices) for technique-2 authoring; changed by commands in
+        # studio/widgets/wdv_edits.py, announced by selectionChanged
+        self.selection = np.zeros(project.mesh.n_welded, dtype=bool)
+        self.frame = float(project.view.get("frame", project.timeline.start))  # the playhead
         self.camera = OrbitCamera.from_dict(project.view.get("camera", {}))
         if "camera" not in project.view:
             self.frame_all()
@@ -100,6 +104,7 @@ class Document(QObject):
         self.project.view["view"] = asdict(self.view)
         self.project.view["camera"] = self.camera.to_dict()
         self.project.view["pose_weights"] = dict(self.pose_weights)
+        self.project.view["frame"] = self.frame
 
     def mark_saved(self, path: Path) -> None:
         self.path = path

@@ -56,6 +56,10 @@ class MainWindow(QMainWindow):
         self._add_dock("Shading", self.shading_panel, Qt.DockWidgetArea.RightDockWidgetArea)
         self._add_dock("History", self.undo_view, Qt.DockWidgetArea.LeftDockWidgetArea)
         self.docks["History"].hide()
+        self.tools = self.addToolBar("Tools")
+        self.tools.setObjectName("toolbar:tools")
+        # --- authoring panels and tools: one install call each (technique 2, technique 1,
+        # timeline), kept in their own modules ---
         self._frame_label = QLabel("")
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()

@@ -53,7 +53,9 @@ class Viewport(QOpenGLWidget):
         self.doc = document
         self.ctx: moderngl.Context | None = None
         self.scene: ProjectScene | None = None
-        self.tool = None  # an authoring tool that takes left-button gestures (later issues)
+        self.tool = None  # an authoring tool: press/move/release(viewport, event) on left button
+        # drawn after the face each frame: objects with draw(ctx, fbo, camera, viewport_rect)
+        self.overlays: list = []
         self._pending: set[str] = set()
         self._mask_regions: list[tuple[int, int, int, int, int]] = []
         self._drag: tuple[str, QPoint] | None = None
@@ -151,6 +153,8 @@ class Viewport(QOpenGLWidget):
             self.renderer.render(fbo, self.doc.camera,
                                  RenderSettings(technique=view.technique, **base),
                                  viewport=(0, 0, w, h))
+        for overlay in self.overlays:
+            overlay.draw(self.ctx, fbo, self.doc.camera, (0, 0, w, h))
         self.ctx.finish()
         self.frames_rendered += 1
         self.frameRendered.emit((time.perf_counter() - start) * 1000.0)
@@ -219,6 +223,19 @@ class Viewport(QOpenGLWidget):
             self._drag = None
         elif self.tool is not None and event.button() == Qt.MouseButton.LeftButton:
             self.tool.release(self, event)
+
+    def set_tool(self, tool) -> None:
+        """Give left-button gestures to an authoring tool (None: navigation only)."""
+        if self.tool is not None and hasattr(self.tool, "deactivate"):
+            self.tool.deactivate(self)
+        self.tool = tool
+        self.setCursor(Qt.CursorShape.CrossCursor if tool else Qt.CursorShape.ArrowCursor)
+        self.update()
+
+    def pixel_size(self) -> tuple[int, int]:
+        """The framebuffer size in device pixels (what the camera projects to)."""
+        ratio = self.devicePixelRatioF()
+        return round(self.width() * ratio), round(self.height() * ratio)
 
     def wheelEvent(self, event: QWheelEvent) -> None:
         steps = event.angleDelta().y() / 120.0

@@ -1,0 +1,26 @@
+"""``wrinkle-studio sample``: write the bundled sample face as a project file."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from studio.cli import parse_vertices
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("sample", help="write the bundled sample face as a .wrinkle project")
+    p.add_argument("-o", "--output", required=True, help="project file to write")
+    p.add_argument("--vertices", type=parse_vertices, default=2172,
+                   help="vertex count of the sample face (default 2172)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from studio.core.project_file import save_project
+    from studio.core.sample import make_sample
+
+    out = Path(args.output)
+    save_project(make_sample(args.vertices), out)
+    print(f"wrote {out} (sample face, {args.vertices} vertices)")
+    return 0
