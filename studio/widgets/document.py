@@ -168,6 +168,16 @@ class Document(QObject):
         """Technique-1 activation vector: sliders plus the links from the current pose weights."""
         return self.project.influence.activations(self.pose_weights)
 
+    # --- playback (not undoable, like scrubbing in any animation tool) ------------------------
+    def show_frame(self, frame: float) -> None:
+        """Move the playhead; an animated project's pose follows the timeline."""
+        self.frame = float(frame)
+        timeline = self.project.timeline
+        if timeline.has_keys:
+            self.pose_weights = {**self.pose_weights, **timeline.weights_at(self.frame)}
+            self.poseWeightsChanged.emit()
+        self.playheadChanged.emit()
+
     # --- view state (saved, not undoable) ------------------------------------------------------
     def set_view(self, **changes) -> None:
         for key, value in changes.items():
