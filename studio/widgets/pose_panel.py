@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QFormLayout,
     QGroupBox,
@@ -26,6 +27,8 @@ class PosePanel(QScrollArea):
         super().__init__(parent)
         self.doc = document
         self.setWidgetResizable(True)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setMinimumWidth(360)
         self.pose_rows: dict[str, SliderRow] = {}
         self.area_rows: list[SliderRow] = []
         self.area_bars: list[QProgressBar] = []
