@@ -1,6 +1,9 @@
 #version 330 core
 // Face fragment shader: normal-mapped Blinn-Phong, blending a neutral and a wrinkled shading by
 // the wrinkle weight of the technique (SPEC §4, §5), plus the debug views.
+// Defines: TECHNIQUE_{FLAT,NONE,T1,T2}; T1_DIRECT (loop over every mask layer, the thesis's
+// form, instead of the composed weight texture); BLEND_NORMALS (blend the two normals and light
+// once, instead of the thesis's blend of two shaded colours).
 #include "common.glsl"
 
 in vec3 v_view_pos;
@@ -11,11 +14,10 @@ in vec2 v_texcoord;
 in float v_wrinkle;
 
 uniform sampler2D u_diffuse;
-uniform sampler2D u_normal_neutral;
-uniform sampler2D u_normal_wrinkled;
-uniform int u_view_mode;    // 0 shaded, 1 wrinkle heat map, 2 normals, 3 UV checker
+uniform sampler2D u_normals;   // rg: neutral map's xy, ba: wrinkled map's xy (z rebuilt)
+uniform int u_view_mode;       // 0 shaded, 1 wrinkle heat map, 2 normals, 3 UV checker
 
-#ifdef TECHNIQUE_T1
+#if defined(TECHNIQUE_T1) && defined(T1_DIRECT)
 uniform sampler2DArray u_masks;     // one layer per influence area; the layer count is read here
 uniform sampler2D u_activations;    // 1 x N, R32F: the activation vector
 
@@ -28,11 +30,20 @@ float wrinkle_weight() {
     }
     return clamp(s, 0.0, 1.0);
 }
+#elif defined(TECHNIQUE_T1)
+uniform sampler2D u_t1_weight;      // Σ mask·activation, composed when the activations change
+
+float wrinkle_weight() { return texture(u_t1_weight, v_texcoord).r; }
 #else
 float wrinkle_weight() { return v_wrinkle; }
 #endif
 
 out vec4 frag_colour;
+
+vec3 unpack_normal(vec2 xy) {
+    vec2 n = xy * 2.0 - 1.0;
+    return vec3(n, sqrt(max(1.0 - dot(n, n), 0.0)));
+}
 
 vec3 heat(float t) {
     return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0),
@@ -48,16 +59,20 @@ void main() {
     vec3 n = n_geo;
 #else
     mat3 tbn = mat3(normalize(v_tangent), normalize(v_bitangent), n_geo);
-    vec2 dx = dFdx(v_texcoord), dy = dFdy(v_texcoord);   // outside the branch: valid gradients
     vec3 albedo = srgb_to_linear(texture(u_diffuse, v_texcoord).rgb);
-    vec3 n = normalize(tbn * decode_normal(texture(u_normal_neutral, v_texcoord).rgb));
+    vec4 normals = texture(u_normals, v_texcoord);
+    vec3 n = normalize(tbn * unpack_normal(normals.xy));
+#ifdef BLEND_NORMALS
+    if (s > 0.0) n = normalize(mix(n, normalize(tbn * unpack_normal(normals.zw)), s));
+    vec3 colour = shade(albedo, n, view_dir);
+#else
     vec3 colour = shade(albedo, n, view_dir);
     if (s > 0.0) {
-        vec3 n_w = normalize(tbn * decode_normal(
-            textureGrad(u_normal_wrinkled, v_texcoord, dx, dy).rgb));
+        vec3 n_w = normalize(tbn * unpack_normal(normals.zw));
         colour = mix(colour, shade(albedo, n_w, view_dir), s);   // the thesis's colour blend
         n = normalize(mix(n, n_w, s));
     }
+#endif
 #endif
     if (u_view_mode == 1) {
         colour = mix(srgb_to_linear(heat(s)), colour * 0.3, 0.35);

@@ -40,3 +40,27 @@ class FaceTextures:
         self.diffuse = check_image(self.diffuse, "diffuse map")
         self.normal_neutral = check_image(self.normal_neutral, "neutral normal map")
         self.normal_wrinkled = check_image(self.normal_wrinkled, "wrinkled normal map")
+
+
+def resize_nearest(image: Array, height: int, width: int) -> Array:
+    """Nearest-texel resize (for matching map sizes; a flat map stays exactly flat)."""
+    rows = (np.arange(height) * image.shape[0] // height)
+    cols = (np.arange(width) * image.shape[1] // width)
+    return image[rows][:, cols]
+
+
+def pack_normal_maps(neutral: Array, wrinkled: Array) -> Array:
+    """One RGBA image holding both tangent-space maps' x and y (z is rebuilt in the shader), so
+    blending the two costs a single texture fetch. The smaller map is resized to the larger."""
+    h = max(neutral.shape[0], wrinkled.shape[0])
+    w = max(neutral.shape[1], wrinkled.shape[1])
+    dtype = np.uint16 if np.uint16 in (neutral.dtype, wrinkled.dtype) else np.uint8
+
+    def as_dtype(img: Array) -> Array:
+        img = resize_nearest(img, h, w) if img.shape[:2] != (h, w) else img
+        if img.dtype != dtype:  # 8-bit to 16-bit: 255 -> 65535 exactly
+            img = img.astype(np.uint16) * 257
+        return img
+
+    return np.ascontiguousarray(np.concatenate(
+        [as_dtype(neutral)[..., :2], as_dtype(wrinkled)[..., :2]], axis=-1))

@@ -7,6 +7,7 @@ tangents (one interleaved buffer write) and the draw.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import moderngl
@@ -14,15 +15,19 @@ import numpy as np
 
 from studio.core.camera import OrbitCamera
 from studio.core.geometry import DeformCache
+from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
-from studio.core.textures import FaceTextures
+from studio.core.textures import FaceTextures, pack_normal_maps
 from studio.core.wdv import SLOTS
 from studio.render.shaders import build_program
 
 TECHNIQUES = ("flat", "none", "t1", "t2")
 VIEW_MODES = {"shaded": 0, "heat": 1, "normals": 2, "uv": 3}
 
-_UNIT = {"diffuse": 0, "normal_neutral": 1, "normal_wrinkled": 2, "masks": 3, "activations": 4}
+_UNIT = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
+         "t1_index": 5, "t1_slot_weight": 6}
+BLENDS = ("colour", "normal")
+T1_MODES = ("composed", "direct")
 
 
 @dataclass
@@ -35,12 +40,25 @@ class RenderSettings:
     specular: float = 0.12
     shininess: float = 20.0
     background: tuple[float, float, float] = (0.16, 0.17, 0.19)
+    blend: str = "colour"  # colour: the thesis's mix of two shadings; normal: light once
+    t1_mode: str = "composed"  # composed: one weight texture a frame; direct: every mask a pixel
 
     def __post_init__(self) -> None:
-        if self.technique not in TECHNIQUES:
-            raise ValueError(f"unknown technique '{self.technique}' (choose from {TECHNIQUES})")
-        if self.view not in VIEW_MODES:
-            raise ValueError(f"unknown view '{self.view}' (choose from {tuple(VIEW_MODES)})")
+        for value, allowed, what in ((self.technique, TECHNIQUES, "technique"),
+                                     (self.view, tuple(VIEW_MODES), "view"),
+                                     (self.blend, BLENDS, "blend"),
+                                     (self.t1_mode, T1_MODES, "technique-1 mode")):
+            if value not in allowed:
+                raise ValueError(f"unknown {what} '{value}' (choose from {allowed})")
+
+    def program_key(self) -> tuple[str, ...]:
+        """What selects a compiled program: only options that change the shader's code."""
+        defines = [f"TECHNIQUE_{self.technique.upper()}"]
+        if self.blend == "normal":
+            defines.append("BLEND_NORMALS")
+        if self.technique == "t1" and self.t1_mode == "direct":
+            defines.append("T1_DIRECT")
+        return tuple(defines)
 
 
 def _texture_dtype(image: np.ndarray) -> str:
@@ -58,9 +76,15 @@ class FaceRenderer:
         self._textures: dict[str, moderngl.Texture] = {}
         self._masks: moderngl.TextureArray | None = None
         self._activations: moderngl.Texture | None = None
+        self._t1_index: moderngl.Texture | None = None
+        self._t1_slot_weight: moderngl.Texture | None = None
+        self._t1_weight: moderngl.Texture | None = None
+        self._t1_fbo: moderngl.Framebuffer | None = None
+        self._t1_dirty = True
         self._buffers: list[moderngl.Buffer] = []
         self._positions: np.ndarray | None = None
         self._geometry_dirty = False
+        self.last_deform_ms = 0.0  # CPU time of the last normals + tangents update
         self.expression_factor = 1.0
         self.scale_free = True
         self.set_masks(np.zeros((0, 1, 1), np.float32))
@@ -87,13 +111,16 @@ class FaceRenderer:
         self._geometry_dirty = True
 
     def set_textures(self, textures: FaceTextures) -> None:
-        for name in ("diffuse", "normal_neutral", "normal_wrinkled"):
-            image = getattr(textures, name)
+        """Diffuse map, and both normal maps packed into one texture (one fetch blends them)."""
+        images = {"diffuse": textures.diffuse,
+                  "normals": pack_normal_maps(textures.normal_neutral, textures.normal_wrinkled)}
+        for name, image in images.items():
             old = self._textures.pop(name, None)
             if old is not None:
                 old.release()
-            h, w = image.shape[:2]
-            tex = self.ctx.texture((w, h), 3, image.tobytes(), dtype=_texture_dtype(image))
+            h, w, components = image.shape
+            tex = self.ctx.texture((w, h), components, image.tobytes(),
+                                   dtype=_texture_dtype(image))
             tex.build_mipmaps()
             tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
             tex.anisotropy = 8.0
@@ -106,7 +133,8 @@ class FaceRenderer:
         if len(masks) == 0:
             masks = np.zeros((1, 1, 1), np.float32)
         n, h, w = masks.shape
-        data = np.round(np.clip(masks, 0.0, 1.0) * 255.0).astype(np.uint8)
+        data = quantise(masks)
+        self._mask_bytes = data  # kept to rebuild the sparse form of a painted rectangle
         if self._masks is not None and self._masks.size == (w, h, n):
             self._masks.write(data.tobytes())
         else:
@@ -116,13 +144,38 @@ class FaceRenderer:
             self._masks.repeat_x = self._masks.repeat_y = False
             self._masks.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self._area_count = n
+        self._set_sparse_masks(data)
         self.set_activations(np.zeros(n, np.float32))
+
+    def _set_sparse_masks(self, data: np.ndarray) -> None:
+        """The composed path's per-texel strongest areas, and its weight texture."""
+        _, h, w = data.shape
+        sparse = sparse_masks(data)
+        for tex in (self._t1_index, self._t1_slot_weight, self._t1_weight):
+            if tex is not None:
+                tex.release()
+        if self._t1_fbo is not None:
+            self._t1_fbo.release()
+        self._t1_index = self.ctx.texture((w, h), 4, sparse.indices.tobytes(), dtype="u2")
+        self._t1_slot_weight = self.ctx.texture((w, h), 4, sparse.weights.tobytes(), dtype="f1")
+        for tex in (self._t1_index, self._t1_slot_weight):
+            tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        self._t1_weight = self.ctx.texture((w, h), 1, dtype="f2")
+        self._t1_weight.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        self._t1_weight.repeat_x = self._t1_weight.repeat_y = False
+        self._t1_fbo = self.ctx.framebuffer(color_attachments=[self._t1_weight])
+        self._t1_dirty = True
 
     def update_mask_region(self, layer: int, x: int, y: int, patch: np.ndarray) -> None:
         """Upload only a painted rectangle of one mask (image coordinates, top row first)."""
-        data = np.round(np.clip(patch, 0.0, 1.0) * 255.0).astype(np.uint8)
+        data = quantise(patch)
         h, w = data.shape
         self._masks.write(data.tobytes(), viewport=(x, y, layer, w, h, 1))
+        self._mask_bytes[layer, y:y + h, x:x + w] = data
+        sparse = sparse_masks(self._mask_bytes[:, y:y + h, x:x + w])
+        self._t1_index.write(sparse.indices.tobytes(), viewport=(x, y, w, h))
+        self._t1_slot_weight.write(sparse.weights.tobytes(), viewport=(x, y, w, h))
+        self._t1_dirty = True
 
     def set_activations(self, activations: np.ndarray) -> None:
         values = np.zeros(max(self._area_count, 1), np.float32)
@@ -133,6 +186,7 @@ class FaceRenderer:
             self._activations = self.ctx.texture((len(values), 1), 1, dtype="f4")
             self._activations.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self._activations.write(values.tobytes())
+        self._t1_dirty = True
 
     def set_wdv(self, dirs: np.ndarray, cones: np.ndarray, expression_factor: float = 1.0,
                 scale_free: bool = True) -> None:
@@ -150,9 +204,14 @@ class FaceRenderer:
         if self.mesh is None:
             raise RuntimeError("FaceRenderer.render called before set_mesh")
         if self._geometry_dirty:
-            self._dynamic.write(self._deform.update(self._positions))
+            start = time.perf_counter()
+            attributes = self._deform.update(self._positions)
+            self.last_deform_ms = (time.perf_counter() - start) * 1000.0
+            self._dynamic.write(attributes)
             self._geometry_dirty = False
         ctx = self.ctx
+        if settings.technique == "t1" and settings.t1_mode == "composed" and self._t1_dirty:
+            self._compose_t1()
         viewport = viewport or (0, 0, *fbo.size)
         fbo.use()
         ctx.viewport = viewport
@@ -163,45 +222,62 @@ class FaceRenderer:
         ctx.disable(moderngl.CULL_FACE)
         view = camera.view_matrix()
         proj = camera.projection_matrix(viewport[2] / max(viewport[3], 1))
-        prog = self._program(settings.technique)
+        key = settings.program_key()
+        prog = self._program(key)
         self._set_uniforms(prog, view, proj, settings)
         self._bind_textures()
-        self._vao(settings.technique).render(moderngl.TRIANGLES)
+        self._vao(key).render(moderngl.TRIANGLES)
         if settings.wireframe:
             self._draw_wireframe(view, proj)
 
+    def _compose_t1(self) -> None:
+        """Σ mask·activation into the weight texture, from each texel's strongest areas."""
+        prog = self._program(("compose",))
+        self._bind_textures()
+        for name in ("t1_index", "t1_slot_weight", "activations"):
+            prog[f"u_{name}"].value = _UNIT[name]
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self._t1_fbo.use()
+        self.ctx.viewport = (0, 0, *self._t1_weight.size)
+        self._vao(("compose",)).render(moderngl.TRIANGLES, vertices=3)
+        self._t1_dirty = False
+
     def _draw_wireframe(self, view: np.ndarray, proj: np.ndarray) -> None:
-        prog = self._program("wire")
+        prog = self._program(("wire",))
         self._write_matrix(prog, "u_view", view)
         self._write_matrix(prog, "u_proj", proj)
         prog["u_colour"].value = (0.05, 0.05, 0.05, 0.55)
         self.ctx.enable(moderngl.BLEND)
         self.ctx.wireframe = True
         self.ctx.polygon_offset = (-1.0, -1.0)
-        self._vao("wire").render(moderngl.TRIANGLES)
+        self._vao(("wire",)).render(moderngl.TRIANGLES)
         self.ctx.polygon_offset = (0.0, 0.0)
         self.ctx.wireframe = False
         self.ctx.disable(moderngl.BLEND)
 
-    def _program(self, kind: str) -> moderngl.Program:
-        if kind not in self._programs:
-            if kind == "wire":
-                self._programs[kind] = build_program(self.ctx, "wire.vert", "wire.frag")
-            else:
-                self._programs[kind] = build_program(
-                    self.ctx, "face.vert", "face.frag", [f"TECHNIQUE_{kind.upper()}"])
-        return self._programs[kind]
+    def _program(self, key: tuple[str, ...]) -> moderngl.Program:
+        """Programs by their defines; ("wire",) and ("compose",) are the helper passes."""
+        if key not in self._programs:
+            files = {("wire",): ("wire.vert", "wire.frag"),
+                     ("compose",): ("t1_compose.vert", "t1_compose.frag")}
+            vert, frag = files.get(key, ("face.vert", "face.frag"))
+            defines = () if key in files else key
+            self._programs[key] = build_program(self.ctx, vert, frag, defines)
+        return self._programs[key]
 
-    def _vao(self, kind: str) -> moderngl.VertexArray:
-        if kind not in self._vaos:
+    def _vao(self, key: tuple[str, ...]) -> moderngl.VertexArray:
+        if key not in self._vaos:
+            if key == ("compose",):
+                self._vaos[key] = self.ctx.vertex_array(self._program(key), [])
+                return self._vaos[key]
             content = [
                 (self._dynamic, "3f 3f 4f", "in_position", "in_normal", "in_tangent"),
                 (self._static, "2f 3f", "in_uv", "in_rest"),
                 (self._wdv, "16f 4f", "in_wdv", "in_cone"),
             ]
-            self._vaos[kind] = self.ctx.vertex_array(
-                self._program(kind), content, self._ibo, index_element_size=4, skip_errors=True)
-        return self._vaos[kind]
+            self._vaos[key] = self.ctx.vertex_array(
+                self._program(key), content, self._ibo, index_element_size=4, skip_errors=True)
+        return self._vaos[key]
 
     @staticmethod
     def _write_matrix(prog: moderngl.Program, name: str, matrix: np.ndarray) -> None:
@@ -231,6 +307,9 @@ class FaceRenderer:
             tex.use(_UNIT[name])
         self._masks.use(_UNIT["masks"])
         self._activations.use(_UNIT["activations"])
+        self._t1_weight.use(_UNIT["t1_weight"])
+        self._t1_index.use(_UNIT["t1_index"])
+        self._t1_slot_weight.use(_UNIT["t1_slot_weight"])
 
     def _release_geometry(self) -> None:
         for vao in self._vaos.values():
@@ -244,6 +323,7 @@ class FaceRenderer:
         self._release_geometry()
         for prog in self._programs.values():
             prog.release()
-        for tex in [*self._textures.values(), self._masks, self._activations]:
+        for tex in [*self._textures.values(), self._masks, self._activations, self._t1_index,
+                    self._t1_slot_weight, self._t1_weight, self._t1_fbo]:
             if tex is not None:
                 tex.release()

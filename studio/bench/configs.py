@@ -1,0 +1,45 @@
+"""Which configurations the benchmark times (thesis Tables 5.2–5.4, extended)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+THESIS_VERTICES = tuple(range(561, 5152, 510))  # 561, 1071, …, 5151 (Tables 5.3/5.4)
+THESIS_AREAS = (1, 2, 4, 8, 12, 16)  # Table 5.2, on the 2172-vertex model
+EXTRA_AREAS = (32, 64, 128, 256)
+EXTRA_VERTICES = (30000,)
+AREA_MODEL = 2172
+COMPARISON_AREAS = 8  # technique 1 in the vertex comparison
+
+# mean frame time (ms) the thesis reports, for the plots
+THESIS_T1_BY_AREAS = {1: 17.4, 2: 17.9, 4: 19.8, 8: 22.9, 12: 26.3, 16: 29.9}
+THESIS_BY_VERTICES = {561: (16.6, 16.1), 1071: (16.6, 16.8), 2091: (17.8, 18.8),
+                      3111: (21.4, 22.9), 4131: (25.6, 32.3), 5151: (30.0, 40.0)}
+
+
+@dataclass(frozen=True)
+class Config:
+    technique: str  # flat | none | t1 | t2
+    areas: int  # technique-1 areas (0 for the others)
+    vertices: int
+
+    @property
+    def label(self) -> str:
+        extra = f", {self.areas} areas" if self.technique == "t1" else ""
+        return f"{self.technique}{extra}, {self.vertices} vertices"
+
+
+def configurations(quick: bool = False) -> list[Config]:
+    """Every configuration, grouped by mesh so each mesh is built once."""
+    if quick:
+        by_areas, by_vertices = (1, 16, 64), (561, 2172)
+    else:
+        by_areas = THESIS_AREAS + EXTRA_AREAS
+        by_vertices = tuple(sorted({*THESIS_VERTICES, AREA_MODEL, *EXTRA_VERTICES}))
+    configs = []
+    for v in by_vertices:
+        configs += [Config("flat", 0, v), Config("none", 0, v), Config("t2", 0, v),
+                    Config("t1", COMPARISON_AREAS, v)]
+        if v == AREA_MODEL:
+            configs += [Config("t1", a, v) for a in by_areas if a != COMPARISON_AREAS]
+    return configs

@@ -1,0 +1,54 @@
+"""``wrinkle-studio bench``: the thesis's performance study (SPEC §7), reproduced and extended."""
+
+from __future__ import annotations
+
+import argparse
+import platform
+from pathlib import Path
+
+from studio.cli import parse_size
+from studio.core.errors import StudioError
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("bench", help="time both techniques offscreen, like the thesis (SPEC §7)")
+    p.add_argument("--frames", type=int, default=1000, help="frames per configuration (1000)")
+    p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (1280x720)")
+    p.add_argument("--quick", action="store_true",
+                   help="a small subset with few frames, in well under a minute")
+    p.add_argument("--out", default="bench-results", help="folder for results.csv and plots")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from studio.bench.configs import configurations
+    from studio.bench.report import table, write_csv, write_plots
+    from studio.bench.runner import time_configuration
+    from studio.core.sample import make_sample
+    from studio.render.offscreen import create_standalone_context
+
+    frames = min(args.frames, 20) if args.quick else args.frames
+    if frames < 1:
+        raise StudioError(f"--frames {args.frames}: need at least one frame")
+    out = Path(args.out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise StudioError(f"cannot create the results folder: {exc.strerror}", out) from None
+    ctx = create_standalone_context()
+    print(f"machine: {platform.machine()}, {platform.processor() or platform.system()}, "
+          f"Python {platform.python_version()}")
+    print(f"GL renderer: {ctx.info['GL_RENDERER']} ({ctx.info['GL_VERSION']})")
+    print(f"{frames} frames per configuration at {args.size[0]}x{args.size[1]}")
+    results = []
+    for config in configurations(args.quick):
+        project = make_sample(config.vertices)
+        results.append(time_configuration(ctx, project, config, frames, args.size))
+        print(table(results[-1:]).splitlines()[-1], flush=True)
+    print()
+    print(table(results))
+    write_csv(results, out / "results.csv")
+    plots = write_plots(results, out)
+    print(f"wrote {out / 'results.csv'}, {', '.join(str(p) for p in plots)}")
+    ctx.release()
+    return 0

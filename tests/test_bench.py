@@ -1,0 +1,74 @@
+"""The benchmark command's output, and the optimised shading paths against the thesis's forms."""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from studio.cli import main
+from studio.render.offscreen import OffscreenStudio
+from studio.render.renderer import RenderSettings
+
+COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
+           "fps_min", "fps_max", "fps_std"]
+
+
+def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
+    out = tmp_path / "bench"
+    assert main(["bench", "--quick", "--frames", "2", "--size", "160x120",
+                 "--out", str(out)]) == 0
+    with (out / "results.csv").open() as f:
+        reader = csv.DictReader(f)
+        rows = list(reader)
+    assert reader.fieldnames == COLUMNS
+    techniques = {r["technique"] for r in rows}
+    assert techniques == {"flat", "none", "t1", "t2"}
+    for row in rows:
+        assert int(row["frames"]) == 2 and (row["width"], row["height"]) == ("160", "120")
+        assert float(row["mean_ms"]) > 0 and float(row["fps_min"]) <= float(row["fps_max"])
+    areas = sorted(int(r["areas"]) for r in rows if r["technique"] == "t1")
+    assert areas[-1] >= 16
+    for plot in ("fps_by_areas.png", "fps_by_vertices.png"):
+        assert (out / plot).stat().st_size > 1000
+    printed = capsys.readouterr().out
+    assert "GL renderer:" in printed and "configuration" in printed
+
+
+def test_bench_rejects_zero_frames(tmp_path, capsys):
+    assert main(["bench", "--frames", "0", "--out", str(tmp_path)]) == 2
+    assert "--frames" in capsys.readouterr().err
+
+
+@pytest.fixture
+def studio(sample, gl_context):
+    s = OffscreenStudio(sample, 400, 300, ctx=gl_context)
+    yield s
+    s.release()
+
+
+def test_composed_technique_1_matches_the_per_layer_loop(studio):
+    """Within 2/255 per channel: the composed weight is stored at half precision."""
+    weights = {"surprise": 1.0, "squeeze": 0.6}
+    direct = studio.render(RenderSettings(technique="t1", t1_mode="direct"), weights)
+    composed = studio.render(RenderSettings(technique="t1"), weights)
+    none = studio.render(RenderSettings(technique="none"), weights)
+    assert np.abs(direct.astype(int) - none.astype(int)).max() > 20  # wrinkles are showing
+    assert np.abs(direct.astype(int) - composed.astype(int)).max() <= 2
+
+
+@pytest.mark.parametrize("technique", ["t1", "t2"])
+def test_normal_blending_shows_the_same_wrinkles_and_nothing_elsewhere(studio, technique):
+    weights = {"surprise": 1.0}
+    none = studio.render(RenderSettings(technique="none"), weights)
+    colour = studio.render(RenderSettings(technique=technique), weights)
+    normal = studio.render(RenderSettings(technique=technique, blend="normal"), weights)
+    changed_colour = np.abs(colour.astype(int) - none.astype(int)).max(axis=2) > 3
+    changed_normal = np.abs(normal.astype(int) - none.astype(int)).max(axis=2) > 3
+    assert changed_colour.sum() > 200
+    overlap = (changed_colour & changed_normal).sum() / changed_colour.sum()
+    assert overlap > 0.8  # the same wrinkles appear, shaded slightly differently
+    neutral = studio.render(RenderSettings(technique="none"), {})
+    assert np.array_equal(studio.render(RenderSettings(technique=technique, blend="normal"), {}),
+                          neutral)
