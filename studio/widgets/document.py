@@ -28,6 +28,7 @@ class ViewState:
     split: bool = False  # t1 | t2 side by side
     debug_view: str = "shaded"  # shaded | heat | normals | uv
     wireframe: bool = False
+    blend: str = "colour"  # colour: the thesis's mix of two shadings | normal: light once
     light_azimuth: float = 30.0  # degrees, camera-relative: 0 = from the viewer, + = from the right
     light_elevation: float = 35.0  # degrees above the view direction
 

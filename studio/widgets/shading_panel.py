@@ -33,6 +33,12 @@ class ShadingPanel(QWidget):
         self.debug_view.activated.connect(
             lambda: document.set_view(debug_view=self.debug_view.currentData()))
         form.addRow("View", self.debug_view)
+        self.blend = QComboBox()
+        self.blend.addItem("Blend shaded colours (thesis)", "colour")
+        self.blend.addItem("Blend normals, light once", "normal")
+        self.blend.setToolTip("How the neutral and wrinkled normal maps are mixed")
+        self.blend.activated.connect(lambda: document.set_view(blend=self.blend.currentData()))
+        form.addRow("Blend", self.blend)
         self.wireframe = QCheckBox("Wireframe overlay")
         self.wireframe.toggled.connect(lambda on: document.set_view(wireframe=on))
         form.addRow(self.wireframe)
@@ -72,6 +78,7 @@ class ShadingPanel(QWidget):
         key = "split" if view.split else view.technique
         self.technique.setCurrentIndex(self.technique.findData(key))
         self.debug_view.setCurrentIndex(self.debug_view.findData(view.debug_view))
+        self.blend.setCurrentIndex(self.blend.findData(view.blend))
         self.wireframe.blockSignals(True)
         self.wireframe.setChecked(view.wireframe)
         self.wireframe.blockSignals(False)

@@ -142,7 +142,8 @@ class Viewport(QOpenGLWidget):
         ratio = self.devicePixelRatioF()
         w, h = round(self.width() * ratio), round(self.height() * ratio)
         view = self.doc.view
-        base = dict(view=view.debug_view, wireframe=view.wireframe, light_dir=view.light_dir())
+        base = dict(view=view.debug_view, wireframe=view.wireframe, light_dir=view.light_dir(),
+                    blend=view.blend)
         if view.split:
             half = w // 2
             for x, width, technique in ((0, half, "t1"), (half, w - half, "t2")):
