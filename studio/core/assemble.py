@@ -30,6 +30,8 @@ def plain_diffuse(size: int = 256) -> np.ndarray:
 def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
                        diffuse: str | Path | None = None, normal: str | Path | None = None,
                        wrinkled: str | Path | None = None, name: str | None = None) -> Project:
+    if Path(mesh).suffix.lower() in (".glb", ".gltf"):
+        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name)
     face = load_mesh(mesh)
     key_poses = []
     for pose_name, pose_path in (poses or {}).items():
@@ -42,3 +44,26 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
         normal_wrinkled=load_rgb(wrinkled) if wrinkled else flat_normal_map(),
     )
     return Project(name or Path(mesh).stem, face, key_poses, textures)
+
+
+def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
+               diffuse: str | Path | None, normal: str | Path | None,
+               wrinkled: str | Path | None, name: str | None) -> Project:
+    """A glTF brings its morph targets as key poses and its textures; files given override."""
+    from studio.core.gltf import load_gltf
+
+    project = load_gltf(path)
+    for pose_name, pose_path in (poses or {}).items():
+        if pose_name in project.pose_names:
+            raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
+        project.poses.append(load_pose(pose_path, project.mesh, pose_name))
+    textures = project.textures
+    for attr, file in (("diffuse", diffuse), ("normal_neutral", normal),
+                       ("normal_wrinkled", wrinkled)):
+        if file:
+            setattr(textures, attr, load_rgb(file))
+    project.textures = FaceTextures(textures.diffuse, textures.normal_neutral,
+                                    textures.normal_wrinkled)
+    if name:
+        project.name = name
+    return project

@@ -26,6 +26,12 @@ def read_image(path: str | Path) -> Array:
         data = path.read_bytes()
     except OSError as exc:
         raise ImageError(f"cannot read the image: {exc.strerror or exc}", path) from None
+    return decode_image(data, path)
+
+
+def decode_image(data: bytes, source: str | Path) -> Array:
+    """Pixels of an encoded image (PNG exactly, other formats through Pillow); ``source`` names
+    where the bytes came from in error messages."""
     try:
         if data.startswith(SIGNATURE):
             return read_png(data, max_bytes=MAX_PIXELS * 8)
@@ -41,7 +47,7 @@ def read_image(path: str | Path) -> Array:
             return np.asarray(img)
     except (PngError, OSError, ValueError, SyntaxError, Image.DecompressionBombError,
             UnidentifiedImageError) as exc:
-        raise ImageError(f"not an image this studio can read ({exc})", path) from None
+        raise ImageError(f"not an image this studio can read ({exc})", source) from None
 
 
 def _with_channels(image: Array, channels: int) -> Array:

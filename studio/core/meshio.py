@@ -64,7 +64,7 @@ def load_mesh(path: str | Path) -> FaceMesh:
         return mesh
     positions, faces, uvs = _load_with_trimesh(path, need_uvs=True)
     assert uvs is not None
-    return _mesh_from_render_vertices(path, positions, faces, uvs)
+    return mesh_from_render_vertices(path, positions, faces, uvs)
 
 
 def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyPose:
@@ -405,7 +405,7 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
     return positions, faces, uvs
 
 
-def _mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: Array) -> FaceMesh:
+def mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: Array) -> FaceMesh:
     """Weld render vertices whose positions are identical, keeping first-occurrence order."""
     _, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
     order = np.argsort(first)

@@ -1,0 +1,52 @@
+"""``wrinkle-studio new``: a project from a neutral mesh, key-pose meshes or a glTF with morph
+targets, and texture maps."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from studio.core.errors import StudioError
+
+
+def parse_pose(text: str) -> tuple[str, str]:
+    name, sep, path = text.partition("=")
+    if not sep or not name or not path:
+        raise argparse.ArgumentTypeError(f"'{text}' is not NAME=FILE")
+    return name, path
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("new", help="make a project from your own meshes and maps")
+    source = p.add_mutually_exclusive_group(required=True)
+    source.add_argument("--mesh", help="neutral mesh (OBJ, PLY, glTF, …)")
+    source.add_argument("--gltf", help="glTF with morph targets: they become the key poses")
+    p.add_argument("--pose", action="append", type=parse_pose, default=[], metavar="NAME=FILE",
+                   help="a key-pose mesh with the neutral mesh's topology (repeatable)")
+    p.add_argument("--diffuse", help="diffuse (skin colour) map")
+    p.add_argument("--normal", help="neutral normal map (default: flat)")
+    p.add_argument("--wrinkle-normal", help="wrinkled normal map (default: flat)")
+    p.add_argument("--flip-green", action="store_true",
+                   help="the normal maps use the DirectX convention (green down)")
+    p.add_argument("-o", "--output", required=True, help="project file to write (.wrinkle)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from studio.core.assemble import project_from_files
+    from studio.core.normalmap import flip_green
+    from studio.core.project_file import save_project
+
+    names = [name for name, _ in args.pose]
+    if len(set(names)) != len(names):
+        raise StudioError("two --pose options have the same name")
+    project = project_from_files(args.mesh or args.gltf, dict(args.pose), args.diffuse,
+                                 args.normal, args.wrinkle_normal)
+    if args.flip_green:
+        project.textures.normal_neutral = flip_green(project.textures.normal_neutral)
+        project.textures.normal_wrinkled = flip_green(project.textures.normal_wrinkled)
+    out = Path(args.output)
+    save_project(project, out)
+    print(f"wrote {out}: {project.mesh.n_welded} vertices, key poses: "
+          f"{', '.join(p.name for p in project.poses) or 'none'}")
+    return 0
