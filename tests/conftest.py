@@ -60,3 +60,22 @@ def dialogs(monkeypatch):
                          ("question", QMessageBox.StandardButton.Yes)):
         monkeypatch.setattr(QMessageBox, kind, staticmethod(record(kind, answer)))
     return shown
+
+
+@pytest.fixture
+def window(qtbot, sample, dialogs):
+    """The studio window on a private copy of the sample, shown, active and drawn once; closed
+    afterwards without the unsaved-changes prompt."""
+    from studio.widgets.main_window import MainWindow
+
+    w = MainWindow(sample)
+    w.resize(1200, 800)
+    w.show()
+    w.activateWindow()
+    qtbot.waitActive(w)  # window shortcuts (Ctrl+Z, F) need an active window
+    qtbot.waitUntil(lambda: w.viewport.frames_rendered > 0 or bool(dialogs), timeout=20000)
+    assert dialogs == []
+    yield w
+    w.doc.undo_stack.setClean()
+    w.close()
+    w.deleteLater()

@@ -11,24 +11,8 @@ import pytest
 from PySide6.QtCore import Qt
 
 from studio.core.project_file import load_project
-from studio.widgets.main_window import MainWindow
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
-
-
-@pytest.fixture
-def window(qtbot, sample, dialogs):
-    w = MainWindow(sample)
-    w.resize(1200, 800)
-    w.show()
-    w.activateWindow()
-    qtbot.waitActive(w)  # window shortcuts (Ctrl+Z, F) need an active window
-    qtbot.waitUntil(lambda: w.viewport.frames_rendered > 0 or bool(dialogs), timeout=20000)
-    assert dialogs == []
-    yield w
-    w.doc.undo_stack.setClean()  # no "save changes?" prompt when the test closes it
-    w.close()
-    w.deleteLater()
 
 
 def test_window_starts_on_the_sample_face(window):
