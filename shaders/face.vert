@@ -1,7 +1,8 @@
 #version 330 core
 // Face vertex shader. The loader defines exactly one of TECHNIQUE_FLAT, TECHNIQUE_NONE,
-// TECHNIQUE_T1, TECHNIQUE_T2. Technique 2 (SPEC §5) is computed here, per vertex, and
-// interpolated to the fragment shader as v_wrinkle.
+// TECHNIQUE_T1, TECHNIQUE_T2, TECHNIQUE_STRAIN. Technique 2 (SPEC §5) is computed here, per
+// vertex, and interpolated to the fragment shader as v_wrinkle; so is the strain mode's weight
+// (skin compression, computed on the CPU with the normals).
 
 in vec3 in_position;
 in vec3 in_normal;
@@ -44,6 +45,10 @@ float wdv_visibility(vec3 delta) {
 }
 #endif
 
+#ifdef TECHNIQUE_STRAIN
+in float in_strain;   // wrinkle weight from skin compression against the neutral pose
+#endif
+
 void main() {
     vec4 view_pos = u_view * vec4(in_position, 1.0);
     mat3 to_view = mat3(u_view);   // rigid camera: rotation only
@@ -52,8 +57,10 @@ void main() {
     v_tangent = to_view * in_tangent.xyz;
     v_bitangent = in_tangent.w * cross(v_normal, v_tangent);
     v_texcoord = vec2(in_uv.x, 1.0 - in_uv.y);
-#ifdef TECHNIQUE_T2
+#if defined(TECHNIQUE_T2)
     v_wrinkle = wdv_visibility(in_position - in_rest);
+#elif defined(TECHNIQUE_STRAIN)
+    v_wrinkle = in_strain;
 #else
     v_wrinkle = 0.0;
 #endif

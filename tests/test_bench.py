@@ -24,7 +24,7 @@ def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
         rows = list(reader)
     assert reader.fieldnames == COLUMNS
     techniques = {r["technique"] for r in rows}
-    assert techniques == {"flat", "none", "t1", "t2"}
+    assert techniques == {"flat", "none", "t1", "t2", "strain"}
     for row in rows:
         assert int(row["frames"]) == 2 and (row["width"], row["height"]) == ("160", "120")
         assert float(row["mean_ms"]) > 0 and float(row["fps_min"]) <= float(row["fps_max"])

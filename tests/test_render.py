@@ -175,3 +175,12 @@ def test_an_area_added_to_the_project_reaches_the_gpu(studio):
     studio.scene.reload_masks()
     after = render(studio, "t1")
     assert region_difference(before, after, marks(studio)["forehead"]) > CHANGED
+
+
+def test_strain_mode_wrinkles_the_forehead_in_surprise_and_nothing_in_neutral(studio):
+    weights = {"surprise": 1.0}
+    none, strain = render(studio, "none", weights), render(studio, "strain", weights)
+    m = marks(studio)
+    assert region_difference(none, strain, m["forehead"]) > CHANGED
+    assert region_difference(none, strain, m["chin"]) < SAME
+    assert np.array_equal(render(studio, "strain"), render(studio, "none"))

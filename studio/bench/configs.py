@@ -19,7 +19,7 @@ THESIS_BY_VERTICES = {561: (16.6, 16.1), 1071: (16.6, 16.8), 2091: (17.8, 18.8),
 
 @dataclass(frozen=True)
 class Config:
-    technique: str  # flat | none | t1 | t2
+    technique: str  # flat | none | t1 | t2 | strain
     areas: int  # technique-1 areas (0 for the others)
     vertices: int
 
@@ -39,7 +39,7 @@ def configurations(quick: bool = False) -> list[Config]:
     configs = []
     for v in by_vertices:
         configs += [Config("flat", 0, v), Config("none", 0, v), Config("t2", 0, v),
-                    Config("t1", COMPARISON_AREAS, v)]
+                    Config("t1", COMPARISON_AREAS, v), Config("strain", 0, v)]
         if v == AREA_MODEL:
             configs += [Config("t1", a, v) for a in by_areas if a != COMPARISON_AREAS]
     return configs

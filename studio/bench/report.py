@@ -98,7 +98,7 @@ def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
     by_areas["thesis: t1 (GeForce Go 6150)"] = [(a, 1000.0 / ms)
                                                  for a, ms in THESIS_T1_BY_AREAS.items()]
     by_vertices: dict[str, list[tuple[float, float]]] = {}
-    for technique in ("t1", "t2", "none", "flat"):
+    for technique in ("t1", "t2", "strain", "none", "flat"):
         pts = [(r.config.vertices, float(r.fps.mean())) for r in results
                if r.config.technique == technique
                and (technique != "t1" or r.config.areas == COMPARISON_AREAS)]

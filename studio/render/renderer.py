@@ -17,11 +17,12 @@ from studio.core.camera import OrbitCamera
 from studio.core.geometry import DeformCache
 from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
+from studio.core.strain import DEFAULT_FULL_AT, StrainField
 from studio.core.textures import FaceTextures, pack_normal_maps
 from studio.core.wdv import SLOTS
 from studio.render.shaders import build_program
 
-TECHNIQUES = ("flat", "none", "t1", "t2")
+TECHNIQUES = ("flat", "none", "t1", "t2", "strain")
 VIEW_MODES = {"shaded": 0, "heat": 1, "normals": 2, "uv": 3}
 
 _UNIT = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
@@ -32,7 +33,7 @@ T1_MODES = ("composed", "direct")
 
 @dataclass
 class RenderSettings:
-    technique: str = "t2"  # flat | none | t1 | t2
+    technique: str = "t2"  # flat | none | t1 | t2 | strain (automatic, from skin compression)
     view: str = "shaded"  # shaded | heat | normals | uv
     wireframe: bool = False
     light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)  # view space, toward the light
@@ -42,6 +43,7 @@ class RenderSettings:
     background: tuple[float, float, float] = (0.16, 0.17, 0.19)
     blend: str = "colour"  # colour: the thesis's mix of two shadings; normal: light once
     t1_mode: str = "composed"  # composed: one weight texture a frame; direct: every mask a pixel
+    strain_full_at: float = DEFAULT_FULL_AT  # compression at which strain wrinkles fully show
 
     def __post_init__(self) -> None:
         for value, allowed, what in ((self.technique, TECHNIQUES, "technique"),
@@ -101,30 +103,58 @@ class FaceRenderer:
         static = np.hstack([mesh.uvs, mesh.rest[mesh.weld]]).astype("f4")
         self._static = self.ctx.buffer(static.tobytes())
         self._wdv = self.ctx.buffer(np.zeros((v, 4 * SLOTS + SLOTS), "f4").tobytes())
-        self._buffers = [self._ibo, self._dynamic, self._static, self._wdv]
+        self._strain_field = StrainField(mesh)
+        self._strain = self.ctx.buffer(reserve=v * 4, dynamic=True)
+        self._strain_key: tuple[int, float] | None = None  # (positions version, full_at)
+        self._buffers = [self._ibo, self._dynamic, self._static, self._wdv, self._strain]
         self._positions = mesh.rest.copy()
+        self._positions_version = 0
         self._geometry_dirty = True
 
     def set_positions(self, welded_positions: np.ndarray) -> None:
         """The pose of this frame (welded positions); normals and tangents follow at draw."""
         np.copyto(self._positions, welded_positions)
         self._geometry_dirty = True
+        self._positions_version += 1
 
     def set_textures(self, textures: FaceTextures) -> None:
         """Diffuse map, and both normal maps packed into one texture (one fetch blends them)."""
-        images = {"diffuse": textures.diffuse,
-                  "normals": pack_normal_maps(textures.normal_neutral, textures.normal_wrinkled)}
-        for name, image in images.items():
+        from studio.core.errors import RenderError
+
+        max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE") or 0)
+        for name in ("diffuse", "normal_neutral", "normal_wrinkled"):
+            h, w = getattr(textures, name).shape[:2]
+            if max_size and max(w, h) > max_size:
+                raise RenderError(f"the {name.replace('_', ' ')} map is {w}×{h} pixels, but this "
+                                  f"GPU's largest texture is {max_size}×{max_size}; use a "
+                                  "smaller map")
+        created: dict[str, moderngl.Texture] = {}
+        try:  # all new textures first: on failure the old ones still draw
+            images = {"diffuse": textures.diffuse,
+                      "normals": pack_normal_maps(textures.normal_neutral,
+                                                  textures.normal_wrinkled)}
+            self.ctx.error  # noqa: B018 - reading it clears an earlier, unrelated error flag
+            for name, image in images.items():
+                h, w, components = image.shape
+                tex = self.ctx.texture((w, h), components, image.tobytes(),
+                                       dtype=_texture_dtype(image))
+                created[name] = tex
+                tex.build_mipmaps()
+                tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+                tex.anisotropy = 8.0
+                tex.repeat_x = tex.repeat_y = False
+                if self.ctx.error == "GL_OUT_OF_MEMORY":
+                    raise MemoryError("GL_OUT_OF_MEMORY")
+        except (moderngl.Error, MemoryError) as exc:
+            for tex in created.values():
+                tex.release()
+            size = "×".join(str(v) for v in textures.diffuse.shape[1::-1])
+            raise RenderError(f"the GPU cannot hold the texture maps ({size} pixels; "
+                              f"{exc or type(exc).__name__}); use smaller maps") from None
+        for name, tex in created.items():
             old = self._textures.pop(name, None)
             if old is not None:
                 old.release()
-            h, w, components = image.shape
-            tex = self.ctx.texture((w, h), components, image.tobytes(),
-                                   dtype=_texture_dtype(image))
-            tex.build_mipmaps()
-            tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-            tex.anisotropy = 8.0
-            tex.repeat_x = tex.repeat_y = False
             self._textures[name] = tex
 
     def set_masks(self, masks: np.ndarray) -> None:
@@ -133,18 +163,40 @@ class FaceRenderer:
         if len(masks) == 0:
             masks = np.zeros((1, 1, 1), np.float32)
         n, h, w = masks.shape
-        data = quantise(masks)
-        self._mask_bytes = data  # kept to rebuild the sparse form of a painted rectangle
-        if self._masks is not None and self._masks.size == (w, h, n):
-            self._masks.write(data.tobytes())
-        else:
-            if self._masks is not None:
-                self._masks.release()
-            self._masks = self.ctx.texture_array((w, h, n), 1, data.tobytes(), dtype="f1")
-            self._masks.repeat_x = self._masks.repeat_y = False
-            self._masks.filter = (moderngl.LINEAR, moderngl.LINEAR)
-        self._area_count = n
-        self._set_sparse_masks(data)
+        # GPU limits: refuse with a clear message what the driver would fail on or crash with
+        from studio.core.errors import RenderError
+
+        info = self.ctx.info
+        max_layers = int(info.get("GL_MAX_ARRAY_TEXTURE_LAYERS") or 0)
+        max_size = int(info.get("GL_MAX_TEXTURE_SIZE") or 0)
+        if max_layers and n > max_layers:
+            raise RenderError(f"this project has {n} influence areas, but this GPU can hold at "
+                              f"most {max_layers} masks; merge or delete some areas")
+        if max_size and max(w, h) > max_size:
+            raise RenderError(f"the influence masks are {w}×{h} pixels, but this GPU's largest "
+                              f"texture is {max_size}×{max_size}; use smaller masks")
+        try:
+            data = quantise(masks)
+            self.ctx.error  # noqa: B018 - reading it clears an earlier, unrelated error flag
+            if self._masks is not None and self._masks.size == (w, h, n):
+                self._masks.write(data.tobytes())
+            else:  # the new texture first: on failure the old one still draws
+                new = self.ctx.texture_array((w, h, n), 1, data.tobytes(), dtype="f1")
+                if self.ctx.error == "GL_OUT_OF_MEMORY":
+                    new.release()
+                    raise MemoryError("GL_OUT_OF_MEMORY")
+                if self._masks is not None:
+                    self._masks.release()
+                self._masks = new
+                self._masks.repeat_x = self._masks.repeat_y = False
+                self._masks.filter = (moderngl.LINEAR, moderngl.LINEAR)
+            self._mask_bytes = data  # kept to rebuild the sparse form of a painted rectangle
+            self._area_count = n
+            self._set_sparse_masks(data)
+        except (moderngl.Error, MemoryError) as exc:
+            raise RenderError(f"the GPU cannot hold {n} influence masks of {w}×{h} pixels "
+                              f"({exc or type(exc).__name__}); use fewer areas or smaller "
+                              "masks") from None
         self.set_activations(np.zeros(n, np.float32))
 
     def _set_sparse_masks(self, data: np.ndarray) -> None:
@@ -212,6 +264,8 @@ class FaceRenderer:
         ctx = self.ctx
         if settings.technique == "t1" and settings.t1_mode == "composed" and self._t1_dirty:
             self._compose_t1()
+        if settings.technique == "strain":
+            self._update_strain(settings.strain_full_at)
         viewport = viewport or (0, 0, *fbo.size)
         fbo.use()
         ctx.viewport = viewport
@@ -229,6 +283,14 @@ class FaceRenderer:
         self._vao(key).render(moderngl.TRIANGLES)
         if settings.wireframe:
             self._draw_wireframe(view, proj)
+
+    def _update_strain(self, full_at: float) -> None:
+        """Compression weights for this frame's pose (only when the pose or gain changed)."""
+        key = (self._positions_version, full_at)
+        if key != self._strain_key:
+            weights = self._strain_field.weights(self._positions, full_at)
+            self._strain.write(weights[self.mesh.weld].astype("f4").tobytes())
+            self._strain_key = key
 
     def _compose_t1(self) -> None:
         """Σ mask·activation into the weight texture, from each texel's strongest areas."""
@@ -274,6 +336,7 @@ class FaceRenderer:
                 (self._dynamic, "3f 3f 4f", "in_position", "in_normal", "in_tangent"),
                 (self._static, "2f 3f", "in_uv", "in_rest"),
                 (self._wdv, "16f 4f", "in_wdv", "in_cone"),
+                (self._strain, "1f", "in_strain"),
             ]
             self._vaos[key] = self.ctx.vertex_array(
                 self._program(key), content, self._ibo, index_element_size=4, skip_errors=True)
