@@ -11,6 +11,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from studio.core.project_file import load_project
+from studio.widgets.viewport import split_columns
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
 
@@ -44,7 +45,7 @@ def test_surprise_slider_wrinkles_the_forehead_and_undo_restores_it(window, qtbo
     assert not window.isWindowModified()
 
 
-def test_split_view_shows_technique_1_left_and_technique_2_right(window):
+def test_split_view_shows_t1_t2_and_automatic_side_by_side(window):
     window.doc.set_pose_weight("surprise", 1.0)
     combo = window.shading_panel.technique
     combo.setCurrentIndex(combo.findData("split"))
@@ -53,12 +54,13 @@ def test_split_view_shows_technique_1_left_and_technique_2_right(window):
     with_t2 = viewport_image(window)
     window.doc.set_expression_factor(0.0)  # hides technique 2's wrinkles only
     without_t2 = viewport_image(window)
-    half = with_t2.shape[1] // 2
-    assert np.array_equal(with_t2[:, :half], without_t2[:, :half])
-    changed = np.abs(with_t2[:, half:].astype(int) - without_t2[:, half:].astype(int)).max(axis=2)
-    assert (changed > 8).sum() > 100
+    (x1, w1), (x2, w2), (x3, w3) = split_columns(with_t2.shape[1])
+    assert np.array_equal(with_t2[:, x1:x1 + w1], without_t2[:, x1:x1 + w1])  # t1 untouched
+    assert np.array_equal(with_t2[:, x3:x3 + w3], without_t2[:, x3:x3 + w3])  # strain untouched
+    middle = np.abs(with_t2[:, x2:x2 + w2].astype(int) - without_t2[:, x2:x2 + w2].astype(int))
+    assert (middle.max(axis=2) > 8).sum() > 100
     labels = [lbl.text() for lbl in window.viewport._labels if lbl.isVisible()]
-    assert any("Technique 1" in t for t in labels) and any("Technique 2" in t for t in labels)
+    assert [t.split(" ·")[0] for t in labels] == ["Technique 1", "Technique 2", "Automatic"]
 
 
 def test_save_then_open_gives_an_equal_document(window, tmp_path):

@@ -9,7 +9,8 @@ from studio.widgets.document import Document
 from studio.widgets.slider_row import SliderRow
 
 TECHNIQUES = [("Technique 2 (wrinkle vectors)", "t2"), ("Technique 1 (influence areas)", "t1"),
-              ("No wrinkles", "none"), ("Split: t1 | t2", "split")]
+              ("Automatic (skin compression)", "strain"), ("No wrinkles", "none"),
+              ("Split: t1 | t2 | automatic", "split")]
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Wrinkle visibility (heat map)", "heat"),
                ("Normals", "normals"), ("UV checker", "uv")]
 

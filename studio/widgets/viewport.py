@@ -9,6 +9,7 @@ side and top views.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import moderngl
@@ -23,7 +24,15 @@ from studio.render.scene import ProjectScene
 from studio.widgets.document import Document
 
 TECHNIQUE_LABELS = {"none": "No wrinkles", "t1": "Technique 1 · influence areas",
-                    "t2": "Technique 2 · wrinkle direction vectors"}
+                    "t2": "Technique 2 · wrinkle direction vectors",
+                    "strain": "Automatic · skin compression"}
+SPLIT = ("t1", "t2", "strain")  # the split view's panes, left to right
+
+
+def split_columns(width: int) -> list[tuple[int, int]]:
+    """x and width of each split-view pane."""
+    edges = [round(width * i / len(SPLIT)) for i in range(len(SPLIT) + 1)]
+    return [(a, b - a) for a, b in itertools.pairwise(edges)]
 
 
 def attach_to_current_context() -> moderngl.Context:
@@ -63,7 +72,7 @@ class Viewport(QOpenGLWidget):
         self.setMinimumSize(320, 240)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMouseTracking(True)
-        self._labels = [self._make_label() for _ in range(2)]
+        self._labels = [self._make_label() for _ in SPLIT]
         self._connect()
 
     def _make_label(self) -> QLabel:
@@ -145,8 +154,7 @@ class Viewport(QOpenGLWidget):
         base = dict(view=view.debug_view, wireframe=view.wireframe, light_dir=view.light_dir(),
                     blend=view.blend)
         if view.split:
-            half = w // 2
-            for x, width, technique in ((0, half, "t1"), (half, w - half, "t2")):
+            for (x, width), technique in zip(split_columns(w), SPLIT, strict=True):
                 self.renderer.render(fbo, self.doc.camera,
                                      RenderSettings(technique=technique, **base),
                                      viewport=(x, 0, width, h))
@@ -165,18 +173,21 @@ class Viewport(QOpenGLWidget):
 
     def _update_labels(self) -> None:
         view = self.doc.view
-        left, right = self._labels
         if view.split:
-            left.setText(TECHNIQUE_LABELS["t1"])
-            right.setText(TECHNIQUE_LABELS["t2"])
-            right.adjustSize()
-            right.move(self.width() - right.width() - 8, 8)
-            right.show()
+            for label, (x, _), technique in zip(self._labels, split_columns(self.width()), SPLIT,
+                                                strict=True):
+                label.setText(TECHNIQUE_LABELS[technique])
+                label.adjustSize()
+                label.move(x + 8, 8)
+                label.show()
         else:
-            left.setText(TECHNIQUE_LABELS[view.technique])
-            right.hide()
-        left.adjustSize()
-        left.move(8, 8)
+            first, *rest = self._labels
+            first.setText(TECHNIQUE_LABELS[view.technique])
+            first.adjustSize()
+            first.move(8, 8)
+            first.show()
+            for label in rest:
+                label.hide()
 
     # --- navigation ----------------------------------------------------------------------------
     def _navigation_for(self, event: QMouseEvent) -> str | None:
