@@ -1,1 +1,1 @@
-"""The performance study of the thesis (SPEC §7), reproduced and extended: ``wrinkle-studio bench``."""
+"""The thesis's performance study (SPEC §7), reproduced and extended: ``wrinkle-studio bench``."""

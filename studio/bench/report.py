@@ -1,4 +1,4 @@
-"""Benchmark output: a table, ``results.csv`` and PNG plots with the thesis's numbers beside ours."""
+"""Benchmark output: a table, ``results.csv``, and PNG plots with the thesis beside ours."""
 
 from __future__ import annotations
 

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QColor, QPainter
 from PySide6.QtWidgets import (
     QFormLayout,
     QGroupBox,
     QLabel,
-    QProgressBar,
     QPushButton,
     QScrollArea,
     QVBoxLayout,
@@ -16,6 +16,29 @@ from PySide6.QtWidgets import (
 
 from studio.widgets.document import Document
 from studio.widgets.slider_row import SliderRow
+
+
+class ActivationBar(QWidget):
+    """A thin bar in the area's colour. (QProgressBar repaints synchronously on every change,
+    which made playback crawl with a dozen of them.)"""
+
+    def __init__(self, colour: tuple[int, int, int]) -> None:
+        super().__init__()
+        self.colour = QColor(*colour)
+        self.fraction = 0.0
+        self.setFixedHeight(5)
+
+    def set_fraction(self, fraction: float) -> None:
+        if fraction != self.fraction:
+            self.fraction = fraction
+            self.update()
+
+    def paintEvent(self, event) -> None:
+        painter = QPainter(self)
+        painter.fillRect(self.rect(), self.palette().color(self.backgroundRole()).darker(115))
+        filled = self.rect()
+        filled.setWidth(round(self.width() * self.fraction))
+        painter.fillRect(filled, self.colour)
 
 
 def pose_label(name: str) -> str:
@@ -31,7 +54,7 @@ class PosePanel(QScrollArea):
         self.setMinimumWidth(360)
         self.pose_rows: dict[str, SliderRow] = {}
         self.area_rows: list[SliderRow] = []
-        self.area_bars: list[QProgressBar] = []
+        self.area_bars: list[ActivationBar] = []
         self._build()
         document.projectReplaced.connect(self._build)
         document.poseWeightsChanged.connect(self._show_values)
@@ -61,12 +84,7 @@ class PosePanel(QScrollArea):
         for index, area in enumerate(self.doc.project.influence.areas):
             row = SliderRow(area.name)
             row.edited.connect(lambda v, g, i=index: self.doc.set_area_activation(i, v, g))
-            bar = QProgressBar()
-            bar.setRange(0, 100)
-            bar.setMaximumHeight(6)
-            bar.setTextVisible(False)
-            r, g, b = area.colour
-            bar.setStyleSheet(f"QProgressBar::chunk {{ background: rgb({r},{g},{b}); }}")
+            bar = ActivationBar(area.colour)
             form.addRow(row)
             form.addRow(bar)
             self.area_rows.append(row)
@@ -93,4 +111,4 @@ class PosePanel(QScrollArea):
         for row, bar, area, value in zip(self.area_rows, self.area_bars, areas, activations,
                                          strict=False):
             row.set_value(area.activation)
-            bar.setValue(round(float(value) * 100))
+            bar.set_fraction(float(value))
