@@ -184,3 +184,15 @@ def test_strain_mode_wrinkles_the_forehead_in_surprise_and_nothing_in_neutral(st
     assert region_difference(none, strain, m["forehead"]) > CHANGED
     assert region_difference(none, strain, m["chin"]) < SAME
     assert np.array_equal(render(studio, "strain"), render(studio, "none"))
+
+
+def test_state_left_by_an_overlay_does_not_break_technique_1(studio, gl_context):
+    """The viewport's overlays may leave blending on; the compose pass must not inherit it."""
+    weights = {"surprise": 1.0}
+    clean = render(studio, "t1", weights)
+    studio.renderer.set_activations(np.zeros(len(studio.scene.project.influence.areas)))
+    render(studio, "t1")  # compose once more so the next change recomposes
+    gl_context.enable(gl_context.BLEND)
+    gl_context.blend_func = gl_context.SRC_ALPHA, gl_context.ONE_MINUS_SRC_ALPHA
+    assert np.array_equal(render(studio, "t1", weights), clean)
+    gl_context.disable(gl_context.BLEND)

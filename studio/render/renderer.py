@@ -262,6 +262,9 @@ class FaceRenderer:
             self._dynamic.write(attributes)
             self._geometry_dirty = False
         ctx = self.ctx
+        # set every piece of state the passes rely on: the viewport's overlays may leave any on
+        ctx.disable(moderngl.BLEND | moderngl.CULL_FACE)
+        ctx.wireframe = False
         if settings.technique == "t1" and settings.t1_mode == "composed" and self._t1_dirty:
             self._compose_t1()
         if settings.technique == "strain":
@@ -273,7 +276,6 @@ class FaceRenderer:
         fbo.clear(*settings.background, 1.0, depth=1.0)
         ctx.scissor = None
         ctx.enable(moderngl.DEPTH_TEST)
-        ctx.disable(moderngl.CULL_FACE)
         view = camera.view_matrix()
         proj = camera.projection_matrix(viewport[2] / max(viewport[3], 1))
         key = settings.program_key()

@@ -57,6 +57,8 @@ class PosePanel(QScrollArea):
         self.area_bars: list[ActivationBar] = []
         self._build()
         document.projectReplaced.connect(self._build)
+        document.posesChanged.connect(self._build)
+        document.areasChanged.connect(self._build)
         document.poseWeightsChanged.connect(self._show_values)
         document.activationsChanged.connect(self._show_values)
 
