@@ -1,18 +1,142 @@
-"""``wrinkle-studio render``: a project (or the bundled sample) to a PNG, without a screen."""
+"""``wrinkle-studio render``: a project (or the bundled sample) to a PNG — one pose, or the
+timeline's animation as numbered frames, an animated GIF or (with imageio-ffmpeg) a video."""
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+
+import numpy as np
 
 from studio.cli import load_project_or_sample, parse_size, parse_vertices
 from studio.core.errors import StudioError
+from studio.core.project import Project
+
+
+def parse_frames(text: str) -> tuple[int, int, int]:
+    """``START:END[:STEP]`` like a Python slice: END itself is not rendered."""
+    parts = text.split(":")
+    try:
+        if len(parts) not in (2, 3):
+            raise ValueError
+        start, end = int(parts[0]), int(parts[1])
+        step = int(parts[2]) if len(parts) == 3 else 1
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a frame range like 0:96 or 0:96:2"
+                                         ) from None
+    if step < 1:
+        raise argparse.ArgumentTypeError(f"'{text}': the step must be at least 1")
+    if end <= start:
+        raise argparse.ArgumentTypeError(f"'{text}': the end frame must come after the start")
+    if end - start > 100_000 * step:
+        raise argparse.ArgumentTypeError(f"'{text}': more than 100000 frames")
+    return start, end, step
+
+
+def frame_path(pattern: str, frame: int) -> Path:
+    """``out/frame_%04d.png`` with the frame number filled in."""
+    try:
+        return Path(pattern % frame)
+    except (TypeError, ValueError):
+        raise StudioError(f"-o {pattern}: with --frames, name the files with a frame-number "
+                          "pattern like out/frame_%04d.png") from None
+
+
+def animation_weights(project: Project, frames: Sequence[float]) -> list[dict[str, float]]:
+    """The pose weights at each frame (tracks evaluated for all frames at once)."""
+    timeline = project.timeline
+    if not timeline.has_keys:
+        raise StudioError("the project has no animation (its timeline has no keys)")
+    curves = {t.pose: t.values_at(frames) for t in timeline.tracks if t.keys}
+    return [{pose: float(v[i]) for pose, v in curves.items()} for i in range(len(frames))]
+
+
+def render_frames(studio, settings, project: Project, frames: Sequence[int]
+                  ) -> Iterator[np.ndarray]:
+    """Render the animation frame by frame (lazily, so a caller can stop or report progress)."""
+    for weights in animation_weights(project, frames):
+        yield studio.render(settings, weights)
+
+
+def video_available() -> bool:
+    return importlib.util.find_spec("imageio_ffmpeg") is not None
+
+
+class AnimationWriter:
+    """Frames one at a time into numbered PNGs, an animated GIF and/or an MP4."""
+
+    def __init__(self, fps: float, pattern: str | None = None, gif: str | None = None,
+                 video: str | None = None, size: tuple[int, int] = (0, 0)) -> None:
+        self.fps, self.pattern = fps, pattern
+        self.gif, self.video = (Path(gif) if gif else None), (Path(video) if video else None)
+        self.written: list[Path] = []
+        self._gif_frames: list = []
+        self._video = None
+        if self.video is not None:
+            if not video_available():
+                raise StudioError("--video needs imageio-ffmpeg (pip install imageio-ffmpeg)")
+            import imageio_ffmpeg
+
+            self._mkdir(self.video)
+            w, h = size
+            self._video = imageio_ffmpeg.write_frames(str(self.video), (w, h), fps=fps,
+                                                      macro_block_size=1)
+            self._video.send(None)
+        for path in (self.gif,):
+            if path is not None:
+                self._mkdir(path)
+
+    @staticmethod
+    def _mkdir(path: Path) -> None:
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise StudioError(f"cannot create the folder: {exc.strerror or exc}",
+                              path.parent) from None
+
+    def add(self, frame: int, image: np.ndarray) -> None:
+        from PIL import Image
+
+        if self.pattern is not None:
+            out = frame_path(self.pattern, frame)
+            if not self.written:
+                self._mkdir(out)
+            try:
+                Image.fromarray(image).save(out)
+            except OSError as exc:
+                raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
+            self.written.append(out)
+        if self.gif is not None:
+            self._gif_frames.append(Image.fromarray(image).quantize(colors=255, dither=0))
+        if self._video is not None:
+            self._video.send(np.ascontiguousarray(image))
+
+    def close(self, step: int = 1) -> None:
+        """Finish the GIF (one frame per rendered frame, ``step`` frames apart) and the video.
+
+        GIF writers merge consecutive identical frames (adding up their durations), so a held
+        pose plays for the right time but counts as one frame."""
+        if self._video is not None:
+            self._video.close()
+            self._video = None
+        if self.gif is not None and self._gif_frames:
+            first, *rest = self._gif_frames
+            try:
+                first.save(self.gif, save_all=True, append_images=rest, loop=0,
+                           duration=max(round(1000.0 * step / self.fps), 10), disposal=1)
+            except OSError as exc:
+                raise StudioError(f"cannot write the GIF: {exc.strerror or exc}",
+                                  self.gif) from None
+            self._gif_frames = []
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("render", help="render a project (or the bundled sample) to a PNG")
+    p = sub.add_parser("render", help="render a project (or the bundled sample) to a PNG, or "
+                                      "its animation to frames, a GIF or a video")
     p.add_argument("project", nargs="?", help="a .wrinkle project (default: the bundled sample)")
-    p.add_argument("--technique", choices=("none", "t1", "t2", "flat"), default="t2")
+    p.add_argument("--technique", choices=("none", "t1", "t2", "strain", "flat"), default="t2")
     p.add_argument("--pose", default="neutral", help="key pose to show (default: neutral)")
     p.add_argument("--weight", type=float, default=1.0, help="weight of that pose, 0..1")
     p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (default 1280x720)")
@@ -20,29 +144,38 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--view", choices=("shaded", "heat", "normals", "uv"), default="shaded",
                    help="debug view (heat = wrinkle visibility)")
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")
+    p.add_argument("--blend", choices=("colour", "normal"), default="colour",
+                   help="mix two shaded colours (the thesis) or the two normals (light once)")
     p.add_argument("--yaw", type=float, help="camera yaw in degrees (0 = front, 90 = profile)")
     p.add_argument("--pitch", type=float, help="camera pitch in degrees")
-    p.add_argument("-o", "--output", required=True, help="PNG file to write")
+    p.add_argument("--frames", type=parse_frames, metavar="START:END[:STEP]",
+                   help="render the timeline's animation, frames START up to (not including) END "
+                        "at the project's frame rate; -o then names the files, e.g. "
+                        "out/frame_%%04d.png")
+    p.add_argument("--gif", metavar="OUT.gif", help="write the animation as an animated GIF "
+                                                    "(the whole timeline unless --frames)")
+    p.add_argument("--video", metavar="OUT.mp4", help="write the animation as a video "
+                                                      "(needs imageio-ffmpeg)")
+    p.add_argument("-o", "--output", help="PNG file to write (a pattern with --frames)")
     p.set_defaults(run=run_render)
 
 
 def run_render(args: argparse.Namespace) -> int:
+    if args.frames is not None or args.gif or args.video:
+        return run_animation(args)
+    if not args.output:
+        raise StudioError("say where to write the image: -o OUT.png")
     from PIL import Image
 
     from studio.render.offscreen import OffscreenStudio
-    from studio.render.renderer import RenderSettings
 
     if not 0.0 <= args.weight <= 1.0:
         raise StudioError(f"--weight {args.weight}: a pose weight is between 0 and 1")
     project = load_project_or_sample(args.project, args.vertices)
     weights = project.single_pose_weights(args.pose, args.weight)
-    settings = RenderSettings(technique=args.technique, view=args.view, wireframe=args.wireframe)
     with OffscreenStudio(project, *args.size) as studio:
-        if args.yaw is not None:
-            studio.camera.yaw = args.yaw
-        if args.pitch is not None:
-            studio.camera.pitch = args.pitch
-        image = studio.render(settings, weights)
+        _aim(studio, args)
+        image = studio.render(_settings(args), weights)
     out = Path(args.output)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
@@ -50,4 +183,54 @@ def run_render(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
     print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}, pose {args.pose})")
+    return 0
+
+
+def _settings(args: argparse.Namespace):
+    from studio.render.renderer import RenderSettings
+
+    return RenderSettings(technique=args.technique, view=args.view, wireframe=args.wireframe,
+                          blend=args.blend)
+
+
+def _aim(studio, args: argparse.Namespace) -> None:
+    if args.yaw is not None:
+        studio.camera.yaw = args.yaw
+    if args.pitch is not None:
+        studio.camera.pitch = args.pitch
+
+
+def run_animation(args: argparse.Namespace,
+                  progress: Callable[[int, int], None] | None = None) -> int:
+    from studio.render.offscreen import OffscreenStudio
+
+    if args.frames is not None and not args.output and not args.gif and not args.video:
+        raise StudioError("say where to write the frames: -o out/frame_%04d.png (or --gif)")
+    if args.frames is None and args.output:
+        raise StudioError("-o with an animation needs --frames START:END[:STEP]")
+    if args.video and not video_available():
+        raise StudioError("--video needs imageio-ffmpeg, which is not installed "
+                          "(pip install imageio-ffmpeg)")
+    if args.output:
+        frame_path(args.output, 0)  # a bad pattern fails before any rendering
+    project = load_project_or_sample(args.project, args.vertices)
+    timeline = project.timeline
+    start, end, step = args.frames or (timeline.start, timeline.end + 1, 1)
+    frames = list(range(start, end, step))
+    animation_weights(project, frames[:1])  # no keys: say so before opening a context
+    writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size)
+    with OffscreenStudio(project, *args.size) as studio:
+        _aim(studio, args)
+        for i, (frame, image) in enumerate(zip(frames, render_frames(
+                studio, _settings(args), project, frames), strict=True)):
+            writer.add(frame, image)
+            if progress is not None:
+                progress(i + 1, len(frames))
+    writer.close(step)
+    outputs = [str(p) for p in (writer.written[:1] if writer.written else [])]
+    if writer.written:
+        outputs = [f"{len(writer.written)} frames ({writer.written[0]} …)"]
+    outputs += [str(p) for p in (writer.gif, writer.video) if p is not None]
+    print(f"wrote {', '.join(outputs)} ({args.size[0]}x{args.size[1]}, {args.technique}, "
+          f"frames {start}:{end}:{step} at {timeline.fps:g} fps)")
     return 0

@@ -38,6 +38,7 @@ from studio.core.sample_mesh import (
     vertex_normals,
 )
 from studio.core.textures import FaceTextures
+from studio.core.timeline import sequence_all_poses
 from studio.core.wdv import WdvArea, WdvSetup, wrinkle_directions
 
 Array = np.ndarray
@@ -202,6 +203,8 @@ def _build(vertices: int, texture_size: int, mask_size: int) -> Project:
         textures=textures,
         influence=_influence(paint_masks(mask_texels)),
         wdv=_wdv(geo, poses),
+        # neutral → pose → neutral for each pose: the sample moves the moment it plays
+        timeline=sequence_all_poses(POSES, fps=24.0),
     )
 
 
