@@ -267,7 +267,7 @@ def test_saving_replaces_the_old_file(tmp_path: Path, saved: Path, project: Proj
     project.name = "Renamed"
     save_project(project, saved)
     assert load_project(saved).name == "Renamed"
-    assert sorted(os.listdir(tmp_path)) == ["face.wrinkle"]
+    assert sorted(os.listdir(tmp_path)) == ["face.wrinkle", "face.wrinkle.bak"]  # no temp files
 
 
 def test_a_failed_replace_leaves_the_old_file(monkeypatch: pytest.MonkeyPatch, tmp_path: Path,

@@ -43,7 +43,8 @@ carries them as a plain ``project.extra`` dict attribute (only when there are an
 Loading trusts nothing: every member name, size, JSON field, array dtype/shape/value and image
 mode/size is checked, ``np.load`` runs with ``allow_pickle=False``, and each problem raises
 :class:`ProjectError` with the file's path and one sentence. Saving is atomic: a temporary file
-in the target's folder, fsync, then ``os.replace``; on failure the old file is untouched.
+in the target's folder, fsync, then ``os.replace``; on failure the old file is untouched. The
+previous version is kept as ``NAME.wrinkle.bak`` (``save_project(..., backup=False)`` skips it).
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ import json
 import math
 import os
 import re
+import shutil
 import stat
 import struct
 import tempfile
@@ -65,6 +67,11 @@ import zlib
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, NoReturn
+
+try:  # advisory locks: POSIX only
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None  # type: ignore[assignment]
 
 import numpy as np
 
@@ -116,8 +123,12 @@ _DAMAGE = (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, struct.error, E
 # --------------------------------------------------------------------------- saving
 
 
-def save_project(project: Project, path: str | Path) -> None:
+def save_project(project: Project, path: str | Path, backup: bool = True) -> None:
     """Write ``project`` to ``path`` atomically: the old file survives any failure.
+
+    With ``backup`` the file being replaced is kept as ``NAME.wrinkle.bak`` (a hard link where
+    the disk allows, so keeping it costs neither time nor space), one step of "undo the save".
+    Temporary files left by an earlier save that was killed are removed on the way.
 
     Raises ProjectError naming ``path`` when the project cannot be saved as it is (so that
     nothing is written that load_project would refuse) or when the disk refuses the write.
@@ -127,9 +138,9 @@ def save_project(project: Project, path: str | Path) -> None:
     document = _document(project, path)
     target = Path(os.path.realpath(path))  # save through a symlink into the file it points at
     folder = target.parent
+    _remove_stale_temps(folder, target.name)
     try:
-        handle = tempfile.NamedTemporaryFile(  # noqa: SIM115 - closed below, on every path
-            dir=folder, prefix=f".{target.name}.", suffix=".tmp", delete=False)
+        handle = _locked_temp(folder, target.name)
     except OSError as exc:
         reason = _os_reason(exc, f"the folder {folder}")
         raise ProjectError(f"cannot save the project: {reason}", path) from exc
@@ -139,6 +150,8 @@ def save_project(project: Project, path: str | Path) -> None:
             handle.flush()
             os.fsync(handle.fileno())
             _copy_mode(handle.name, target)
+        if backup:
+            _keep_backup(target)
         os.replace(handle.name, target)
     except BaseException as exc:
         with contextlib.suppress(OSError):
@@ -148,6 +161,111 @@ def save_project(project: Project, path: str | Path) -> None:
             raise ProjectError(f"cannot save the project: {reason}", path) from exc
         raise
     _fsync_folder(folder)
+
+
+def backup_path(path: str | Path) -> Path:
+    """Where save_project keeps the previous version of ``path``."""
+    path = Path(path)
+    return path.with_name(path.name + ".bak")
+
+
+def _temp_prefix(name: str) -> str:
+    return f".{name}."
+
+
+def _locked_temp(folder: Path, name: str) -> Any:
+    """A new temporary file beside the target, locked while it is written.
+
+    Why the lock: a save killed half-way leaves its temporary file behind; the next save removes
+    the ones nobody holds a lock on (the kernel drops a dead process's locks), never a file that
+    another save is writing right now.
+    """
+    for _ in range(5):
+        handle = tempfile.NamedTemporaryFile(  # noqa: SIM115 - the caller closes it
+            dir=folder, prefix=_temp_prefix(name), suffix=".tmp", delete=False)
+        if fcntl is None:
+            return handle
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)
+        if os.fstat(handle.fileno()).st_nlink > 0:  # not swept away before it was locked
+            return handle
+        handle.close()
+    return handle
+
+
+def _remove_stale_temps(folder: Path, name: str) -> None:
+    """Delete temporary files of earlier saves of ``name`` that died before renaming them."""
+    if fcntl is None:  # no advisory locks (Windows): leave them, they are only hidden litter
+        return
+    prefix = _temp_prefix(name)
+    try:
+        entries = [e for e in os.scandir(folder)
+                   if e.name.startswith(prefix) and e.name.endswith(".tmp")]
+    except OSError:
+        return
+    for entry in _stale_backup_staging(folder, name):
+        with contextlib.suppress(OSError):
+            os.unlink(entry)
+    for entry in entries:
+        try:
+            fd = os.open(entry.path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+        except OSError:
+            continue
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                continue
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # held: a save is writing it
+            os.unlink(entry.path)
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
+
+
+def _stale_backup_staging(folder: Path, name: str) -> list[str]:
+    """Half-made backups (``_keep_backup``'s staging links) of processes that have died."""
+    prefix = f".{name}.bak."
+    stale = []
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(folder):
+            if not (entry.name.startswith(prefix) and entry.name.endswith(".staging")):
+                continue
+            pid = entry.name[len(prefix):-len(".staging")]
+            if pid.isdigit() and int(pid) != os.getpid() and not _process_alive(int(pid)):
+                stale.append(entry.path)
+    return stale
+
+
+def _process_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, but someone else's
+        return True
+    return True
+
+
+def _keep_backup(target: Path) -> None:
+    """Keep the file about to be replaced as ``NAME.bak``, replacing an older backup atomically.
+
+    A backup that cannot be made (no room, no hard links and no space to copy) does not stop the
+    save: the new version matters more than the previous one.
+    """
+    if not target.is_file():
+        return
+    bak = backup_path(target)
+    staging = bak.with_name(f".{bak.name}.{os.getpid()}.staging")
+    with contextlib.suppress(OSError):
+        os.unlink(staging)
+    try:
+        try:
+            os.link(target, staging)
+        except OSError:
+            shutil.copy2(target, staging)
+        os.replace(staging, bak)
+    except OSError:
+        with contextlib.suppress(OSError):
+            os.unlink(staging)
 
 
 def _write_archive(handle: Any, project: Project, document: bytes) -> None:

@@ -1,0 +1,132 @@
+"""A memory budget for the undo history: long painting sessions do not grow without bound.
+
+Commands that hold real data (a stroke's before/after patch) report it with ``nbytes()``, or
+are measured by the numpy arrays they hold; each command also counts
+:data:`SMALL_COMMAND_BYTES` for itself. When the done steps add up to more than the
+budget (QSettings ``undo/budget_mb``, default 512 MB), the oldest ones are dropped.
+
+Why not ``QUndoStack.setUndoLimit``: it counts steps, not bytes, and can only be set while the
+stack is empty. QUndoStack cannot remove its bottom commands either, so a dropped step is marked
+obsolete instead — Qt never undoes or redoes an obsolete command, and deletes it when undo reaches
+it — and its Python data is released at once. Dropped steps are always the oldest contiguous
+ones, so undoing down into them simply stops changing anything, exactly as if the history had
+been cut there (the History panel shows them as "(dropped)" until then).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import QObject, Slot
+from PySide6.QtGui import QUndoCommand, QUndoStack
+
+BUDGET_KEY = "undo/budget_mb"
+DEFAULT_BUDGET_MB = 512.0
+SMALL_COMMAND_BYTES = 1024
+DROPPED_PREFIX = "(dropped) "
+
+
+def command_bytes(command: QUndoCommand) -> int:
+    """The estimated memory a command holds.
+
+    Its own ``nbytes()`` where it has one; otherwise the numpy arrays among its attributes (and
+    in lists, tuples and dicts of them, one level down — a stroke's tiles), or a small constant.
+    """
+    nbytes = getattr(command, "nbytes", None)
+    if callable(nbytes):
+        try:
+            return max(int(nbytes()), 0)
+        except Exception:  # a broken estimate must not break editing
+            return SMALL_COMMAND_BYTES
+    total = SMALL_COMMAND_BYTES
+    for value in getattr(command, "__dict__", {}).values():
+        total += _array_bytes(value, depth=2)
+    return total
+
+
+def _array_bytes(value: object, depth: int) -> int:
+    if isinstance(value, np.ndarray):
+        return int(value.nbytes)
+    if depth <= 0:
+        return 0
+    if isinstance(value, list | tuple):
+        return sum(_array_bytes(v, depth - 1) for v in value)
+    if isinstance(value, dict):
+        return sum(_array_bytes(v, depth - 1) for v in value.values())
+    return 0
+
+
+class UndoBudget(QObject):
+    """Keeps one undo stack's done steps within ``budget`` bytes."""
+
+    def __init__(self, stack: QUndoStack, budget: int, parent: QObject | None = None) -> None:
+        super().__init__(parent)
+        self.stack = stack
+        self.budget = int(budget)
+        self.dropped = 0  # steps dropped so far
+        stack.indexChanged.connect(self._index_changed)
+
+    @Slot(int)
+    def _index_changed(self, _index: int) -> None:
+        self.trim()
+
+    def total_bytes(self) -> int:
+        """Estimated bytes of the steps that can still be undone or redone."""
+        total = 0
+        for i in range(self.stack.count()):
+            command = self.stack.command(i)
+            if not command.isObsolete():
+                total += command_bytes(command)
+        return total
+
+    def trim(self) -> int:
+        """Drop the oldest done steps until the history fits; returns how many were dropped.
+
+        The newest done step and the redo steps are always kept.
+        """
+        stack = getattr(self, "stack", None)
+        try:
+            stack.count()
+        except (RuntimeError, AttributeError):  # the stack or this object is being destroyed
+            return 0
+        sizes = []
+        for i in range(stack.count()):
+            command = stack.command(i)
+            sizes.append(0 if command.isObsolete() else command_bytes(command))
+        total = sum(sizes)
+        dropped = 0
+        i = 0
+        while total > self.budget and i < stack.index() - 1:
+            command = stack.command(i)
+            if not command.isObsolete():
+                total -= sizes[i]
+                _drop(command)
+                dropped += 1
+            i += 1
+        self.dropped += dropped
+        return dropped
+
+
+def _drop(command: QUndoCommand) -> None:
+    """Make a command obsolete and let go of its Python data (Qt never runs it again)."""
+    command.setObsolete(True)
+    command.setText(DROPPED_PREFIX + command.text())
+    state = getattr(command, "__dict__", None)
+    if state is not None:
+        state.clear()
+
+
+def _budget_bytes() -> int:
+    from studio.widgets.main_window import settings
+
+    try:
+        megabytes = float(settings().value(BUDGET_KEY, DEFAULT_BUDGET_MB))
+    except (TypeError, ValueError):
+        megabytes = DEFAULT_BUDGET_MB
+    return int(megabytes * (1 << 20))
+
+
+def install_undo_budget(stack: QUndoStack, parent: QObject | None = None,
+                        budget: int | None = None) -> UndoBudget:
+    """Keep ``stack`` within ``budget`` bytes (default: the ``undo/budget_mb`` setting)."""
+    return UndoBudget(stack, _budget_bytes() if budget is None else budget,
+                      stack if parent is None else parent)
