@@ -63,19 +63,39 @@ def dialogs(monkeypatch):
 
 
 @pytest.fixture
-def window(qtbot, sample, dialogs):
-    """The studio window on a private copy of the sample, shown, active and drawn once; closed
-    afterwards without the unsaved-changes prompt."""
+def window_size() -> tuple[int, int]:
+    """Size of the studio windows a test opens; a test module may override it."""
+    return (1200, 800)
+
+
+@pytest.fixture
+def open_window(qtbot, dialogs, window_size):
+    """Opens the studio window on a project: shown, active (window shortcuts need it) and drawn
+    once; closed afterwards without the unsaved-changes prompt."""
     from studio.widgets.main_window import MainWindow
 
-    w = MainWindow(sample)
-    w.resize(1200, 800)
-    w.show()
-    w.activateWindow()
-    qtbot.waitActive(w)  # window shortcuts (Ctrl+Z, F) need an active window
-    qtbot.waitUntil(lambda: w.viewport.frames_rendered > 0 or bool(dialogs), timeout=20000)
-    assert dialogs == []
-    yield w
-    w.doc.undo_stack.setClean()
-    w.close()
-    w.deleteLater()
+    opened = []
+
+    def open_(project):
+        w = MainWindow(project)
+        opened.append(w)
+        w.resize(*window_size)
+        w.show()
+        w.activateWindow()
+        qtbot.waitActive(w)
+        qtbot.waitUntil(lambda: w.viewport.frames_rendered > 0 or bool(dialogs), timeout=20000)
+        assert dialogs == []
+        return w
+
+    yield open_
+    for w in opened:
+        w.timeline_panel.player.stop()
+        w.doc.undo_stack.setClean()
+        w.close()
+        w.deleteLater()
+
+
+@pytest.fixture
+def window(open_window, sample):
+    """The studio window on a private copy of the sample face."""
+    return open_window(sample)

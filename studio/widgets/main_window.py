@@ -19,10 +19,15 @@ from PySide6.QtWidgets import (
 from studio import __version__
 from studio.core.errors import StudioError
 from studio.core.project import Project
+from studio.widgets.autosave import install_autosave
 from studio.widgets.document import Document
+from studio.widgets.map_tools import install_map_tools
+from studio.widgets.mask_tools import install_mask_tools
 from studio.widgets.pose_panel import PosePanel
 from studio.widgets.shading_panel import ShadingPanel
+from studio.widgets.timeline_tools import install_timeline_tools
 from studio.widgets.viewport import Viewport
+from studio.widgets.wdv_tools import install_wdv_tools
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
@@ -60,17 +65,54 @@ class MainWindow(QMainWindow):
         self.tools.setObjectName("toolbar:tools")
         # --- authoring panels and tools: one install call each (technique 2, technique 1,
         # timeline), kept in their own modules ---
+        install_mask_tools(self)  # technique 1: influence areas, UV paint, face paint (issue 5)
+        install_timeline_tools(self)  # timeline, playback, animation export (issue 6)
+        install_wdv_tools(self)  # technique 2: wrinkle direction vectors (issue 4)
+        install_autosave(self)  # autosave, crash recovery, undo memory budget
         self._frame_label = QLabel("")
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()
+        install_map_tools(self)  # Maps menu and File ▸ Export (issue 8), needs the menus
+        self._arrange_docks()
         self.doc.modifiedChanged.connect(self.setWindowModified)
         self.doc.pathChanged.connect(self._update_title)
         self.doc.projectReplaced.connect(self._update_title)
         self.viewport.frameRendered.connect(self._show_frame_time)
         self.viewport.glFailed.connect(self._gl_failed)
         self._update_title()
-        self.resize(1440, 900)
+        self._initial_size()
         self._restore_layout()
+
+    def _initial_size(self) -> None:
+        """Most of the screen, as 3D tools open; 1440×900 where the screen is unknown."""
+        screen = self.screen()
+        if screen is None:
+            self.resize(1440, 900)
+            return
+        area = screen.availableGeometry()
+        self.resize(round(area.width() * 0.9), round(area.height() * 0.9))
+
+    def _arrange_docks(self) -> None:
+        """The default layout: panels as tabs at the sides, so the viewport keeps the room."""
+        right = [self.docks[t] for t in ("Poses", "Shading", "Wrinkle vectors", "Areas")
+                 if t in self.docks]
+        left = [self.docks[t] for t in ("UV Paint", "History") if t in self.docks]
+        for group, area in ((right, Qt.DockWidgetArea.RightDockWidgetArea),
+                            (left, Qt.DockWidgetArea.LeftDockWidgetArea)):
+            for dock in group:
+                self.addDockWidget(area, dock)
+            for dock in group[1:]:
+                self.tabifyDockWidget(group[0], dock)
+            if group:
+                group[0].raise_()
+
+    def _default_dock_sizes(self) -> None:
+        """Side panels narrow and the timeline short, leaving the viewport most of the window
+        (sizes apply only to a shown window)."""
+        sides = [d for t, d in self.docks.items() if t in ("UV Paint", "Poses")]
+        self.resizeDocks(sides, [330] * len(sides), Qt.Orientation.Horizontal)
+        if "Timeline" in self.docks:
+            self.resizeDocks([self.docks["Timeline"]], [220], Qt.Orientation.Vertical)
 
     def _add_dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> None:
         dock = QDockWidget(title, self)
@@ -121,8 +163,9 @@ class MainWindow(QMainWindow):
         frame.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
         self.viewport.addAction(frame)
         view.addSeparator()
-        for title in ("Poses", "Shading"):
-            view.addAction(self.docks[title].toggleViewAction())
+        for title, dock in self.docks.items():
+            if title != "History":
+                view.addAction(dock.toggleViewAction())
         view.addSeparator()
         self._action(view, "Reset &Layout", self.reset_layout)
 
@@ -280,11 +323,12 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state)
+        else:
+            QTimer.singleShot(0, self._default_dock_sizes)
 
     def reset_layout(self) -> None:
         self.restoreState(self._default_state)
-        for title in ("Poses", "Shading"):
-            self.docks[title].show()
+        self._default_dock_sizes()
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if not self.maybe_save():

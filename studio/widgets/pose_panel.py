@@ -51,7 +51,7 @@ class PosePanel(QScrollArea):
         self.doc = document
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        self.setMinimumWidth(360)
+        self.setMinimumWidth(300)
         self.pose_rows: dict[str, SliderRow] = {}
         self.area_rows: list[SliderRow] = []
         self.area_bars: list[ActivationBar] = []
