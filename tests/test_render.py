@@ -196,3 +196,23 @@ def test_state_left_by_an_overlay_does_not_break_technique_1(studio, gl_context)
     gl_context.blend_func = gl_context.SRC_ALPHA, gl_context.ONE_MINUS_SRC_ALPHA
     assert np.array_equal(render(studio, "t1", weights), clean)
     gl_context.disable(gl_context.BLEND)
+
+
+def test_a_painted_rectangle_recomposes_like_a_full_upload(sample, gl_context):
+    """After a dab only its rectangle is recomposed; the picture must equal a fresh renderer's."""
+    weights = {"squeeze": 1.0}
+    painted = OffscreenStudio(sample, W, H, ctx=gl_context)
+    painted.render(RenderSettings(technique="t1"), weights)  # composed once, whole
+    area = sample.influence.areas[3]
+    h, w = area.mask.shape
+    patch = np.ones((h // 4, w // 4), np.float32)
+    area.mask[h // 3:h // 3 + h // 4, w // 3:w // 3 + w // 4] = patch
+    painted.renderer.update_mask_region(3, w // 3, h // 3, patch)
+    assert painted.renderer._t1_dirty_rect == (w // 3, h // 3, w // 4, h // 4)
+    after_dab = painted.render(RenderSettings(technique="t1"))  # same pose: only the dab
+    assert painted.renderer._t1_dirty_rect is None
+    painted.release()
+    fresh = OffscreenStudio(sample, W, H, ctx=gl_context)
+    expected = fresh.render(RenderSettings(technique="t1"), weights)
+    fresh.release()
+    assert np.array_equal(after_dab, expected)

@@ -6,7 +6,7 @@ import csv
 from collections.abc import Sequence
 from pathlib import Path
 
-from PIL import Image, ImageDraw
+from PIL import Image, ImageDraw, ImageFont
 
 from studio.bench.configs import (
     AREA_MODEL,
@@ -39,6 +39,17 @@ def write_csv(results: Sequence[Result], path: Path) -> None:
             writer.writerow(r.row())
 
 
+def _font() -> ImageFont.ImageFont | ImageFont.FreeTypeFont:
+    """A TrueType font where the system has one (Pillow's bitmap default drops spaces)."""
+    for path in ("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+                 "/usr/share/fonts/TTF/DejaVuSans.ttf", "DejaVuSans.ttf", "Arial.ttf"):
+        try:
+            return ImageFont.truetype(path, 12)
+        except OSError:
+            continue
+    return ImageFont.load_default()
+
+
 def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple[float, float]]],
               size: tuple[int, int] = (760, 460), log_x: bool = False) -> None:
     """A small dependency-free line chart (Pillow): FPS against a parameter."""
@@ -50,6 +61,7 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
     left, right, top, bottom = 70, 20, 40, 60
     img = Image.new("RGB", size, "white")
     draw = ImageDraw.Draw(img)
+    draw.font = _font()
     points = [p for s in series.values() for p in s]
     if not points:
         return
@@ -82,7 +94,9 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
             draw.line(xy, fill=colour, width=2)
         for px, py in xy:
             draw.ellipse((px - 3, py - 3, px + 3, py + 3), fill=colour)
-        draw.text((w - right - 200, top + 8 + 16 * k), f"— {name}", fill=colour)
+        ly = top + 14 + 16 * k
+        draw.line((w - right - 230, ly, w - right - 212, ly), fill=colour, width=3)
+        draw.text((w - right - 206, ly - 7), name, fill=colour)
     img.save(path)
 
 

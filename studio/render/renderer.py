@@ -83,6 +83,7 @@ class FaceRenderer:
         self._t1_weight: moderngl.Texture | None = None
         self._t1_fbo: moderngl.Framebuffer | None = None
         self._t1_dirty = True
+        self._t1_dirty_rect: tuple[int, int, int, int] | None = None  # None: the whole texture
         self._buffers: list[moderngl.Buffer] = []
         self._positions: np.ndarray | None = None
         self._geometry_dirty = False
@@ -217,6 +218,7 @@ class FaceRenderer:
         self._t1_weight.repeat_x = self._t1_weight.repeat_y = False
         self._t1_fbo = self.ctx.framebuffer(color_attachments=[self._t1_weight])
         self._t1_dirty = True
+        self._t1_dirty_rect = None
 
     def update_mask_region(self, layer: int, x: int, y: int, patch: np.ndarray) -> None:
         """Upload only a painted rectangle of one mask (image coordinates, top row first)."""
@@ -227,6 +229,19 @@ class FaceRenderer:
         sparse = sparse_masks(self._mask_bytes[:, y:y + h, x:x + w])
         self._t1_index.write(sparse.indices.tobytes(), viewport=(x, y, w, h))
         self._t1_slot_weight.write(sparse.weights.tobytes(), viewport=(x, y, w, h))
+        self._mark_t1_region(x, y, w, h)
+
+    def _mark_t1_region(self, x: int, y: int, w: int, h: int) -> None:
+        """A dab changed only this rectangle: the next compose redoes just that (a 4096² mask
+        would otherwise be recomposed whole after every dab)."""
+        if self._t1_dirty and self._t1_dirty_rect is None:
+            return  # the whole texture is due anyway
+        if self._t1_dirty:
+            x0, y0, w0, h0 = self._t1_dirty_rect
+            x1, y1 = min(x, x0), min(y, y0)
+            w, h = max(x + w, x0 + w0) - x1, max(y + h, y0 + h0) - y1
+            x, y = x1, y1
+        self._t1_dirty_rect = (x, y, w, h)
         self._t1_dirty = True
 
     def set_activations(self, activations: np.ndarray) -> None:
@@ -239,6 +254,7 @@ class FaceRenderer:
             self._activations.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self._activations.write(values.tobytes())
         self._t1_dirty = True
+        self._t1_dirty_rect = None
 
     def set_wdv(self, dirs: np.ndarray, cones: np.ndarray, expression_factor: float = 1.0,
                 scale_free: bool = True) -> None:
@@ -303,8 +319,11 @@ class FaceRenderer:
         self.ctx.disable(moderngl.DEPTH_TEST)
         self._t1_fbo.use()
         self.ctx.viewport = (0, 0, *self._t1_weight.size)
+        self.ctx.scissor = self._t1_dirty_rect
         self._vao(("compose",)).render(moderngl.TRIANGLES, vertices=3)
+        self.ctx.scissor = None
         self._t1_dirty = False
+        self._t1_dirty_rect = None
 
     def _draw_wireframe(self, view: np.ndarray, proj: np.ndarray) -> None:
         prog = self._program(("wire",))
