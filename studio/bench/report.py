@@ -56,9 +56,9 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
     import math
 
     colours = [(31, 119, 180), (214, 39, 40), (44, 160, 44), (148, 103, 189), (255, 127, 14),
-               (140, 86, 75)]
+               (140, 86, 75), (23, 190, 207)]
     w, h = size
-    left, right, top, bottom = 70, 20, 40, 60
+    left, right, top, bottom = 70, 40, 40, 60
     img = Image.new("RGB", size, "white")
     draw = ImageDraw.Draw(img)
     draw.font = _font()
@@ -123,6 +123,6 @@ def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
     paths = [out / "fps_by_areas.png", out / "fps_by_vertices.png"]
     line_plot(paths[0], f"Technique 1: FPS against areas ({AREA_MODEL} vertices)",
               "influence areas (log scale)", by_areas, log_x=True)
-    line_plot(paths[1], "FPS against vertices (technique 1 with 8 areas)", "vertices",
-              by_vertices)
+    line_plot(paths[1], "FPS against vertices (technique 1 with 8 areas)", "vertices (log scale)",
+              by_vertices, log_x=True)
     return paths
