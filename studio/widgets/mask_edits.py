@@ -20,6 +20,7 @@ from studio.core.brush import Brush, Rect, Stroke, tile_changes
 from studio.core.errors import ImageError
 from studio.core.images import load_grey, write_png
 from studio.core.influence import InfluenceArea
+from studio.core.naming import unique_name
 from studio.widgets.document import Document
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp"}
@@ -152,16 +153,6 @@ def _links_without(links: dict[str, dict[str, float]], names: Iterable[str]
     return {p: {a: g for a, g in gains.items() if a not in gone} for p, gains in links.items()}
 
 
-def unique_name(doc: Document, base: str) -> str:
-    names = {a.name for a in doc.project.influence.areas}
-    if base not in names:
-        return base
-    i = 2
-    while f"{base} {i}" in names:
-        i += 1
-    return f"{base} {i}"
-
-
 def mask_shape(doc: Document, default: int = 1024) -> tuple[int, int]:
     return doc.project.influence.resolution or (default, default)
 
@@ -174,7 +165,7 @@ def add_area(doc: Document, name: str = "area", mask: np.ndarray | None = None,
              links: dict[str, float] | None = None) -> InfluenceArea:
     """A new (empty) area after the others; ``links``: pose -> gain for it."""
     h, w = mask_shape(doc)
-    area = InfluenceArea(unique_name(doc, name),
+    area = InfluenceArea(unique_name(name, (a.name for a in doc.project.influence.areas)),
                          np.zeros((h, w), np.float32) if mask is None else mask,
                          colour=next_colour(doc))
     new_links = copy.deepcopy(doc.project.influence.links)
@@ -187,7 +178,8 @@ def add_area(doc: Document, name: str = "area", mask: np.ndarray | None = None,
 
 def duplicate_area(doc: Document, index: int) -> InfluenceArea:
     src = doc.project.influence.areas[index]
-    area = InfluenceArea(unique_name(doc, f"{src.name} copy"), src.mask.copy(),
+    taken = (a.name for a in doc.project.influence.areas)
+    area = InfluenceArea(unique_name(f"{src.name} copy", taken), src.mask.copy(),
                          colour=src.colour, activation=src.activation, visible=src.visible)
     areas = list(doc.project.influence.areas)
     areas.insert(index + 1, area)

@@ -12,6 +12,7 @@ from collections.abc import Hashable
 import numpy as np
 from PySide6.QtGui import QUndoCommand
 
+from studio.core.naming import unique_name
 from studio.core.wdv import WdvArea, wrinkle_directions
 from studio.widgets.commands import ValueCommand
 from studio.widgets.document import Document
@@ -124,16 +125,6 @@ def set_selection(doc: Document, new: np.ndarray, text: str = "Select",
     doc.undo_stack.push(SelectionCommand(doc, new, text, gesture))
 
 
-def unique_area_name(doc: Document, base: str) -> str:
-    names = {a.name for a in doc.project.wdv.areas}
-    if base not in names:
-        return base
-    n = 2
-    while f"{base} {n}" in names:
-        n += 1
-    return f"{base} {n}"
-
-
 def add_area(doc: Document, name: str = "area", pose: str | None = None) -> WdvArea:
     """A new, empty area at the end of the list, named uniquely, in the next free colour."""
     wdv = doc.project.wdv
@@ -142,8 +133,8 @@ def add_area(doc: Document, name: str = "area", pose: str | None = None) -> WdvA
     used = {tuple(a.colour) for a in wdv.areas}
     colour = next((c for c in AREA_COLOURS if c not in used),
                   AREA_COLOURS[len(wdv.areas) % len(AREA_COLOURS)])
-    area = WdvArea.empty(unique_area_name(doc, name), pose, doc.project.mesh.n_welded,
-                         colour=colour)
+    taken = (a.name for a in wdv.areas)
+    area = WdvArea.empty(unique_name(name, taken), pose, doc.project.mesh.n_welded, colour=colour)
     doc.undo_stack.push(AreaListCommand(doc, [*wdv.areas, area], f"Add area {area.name}"))
     return area
 
