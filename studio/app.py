@@ -38,6 +38,8 @@ def run(project_path: str | None = None, screenshot: str | None = None) -> int:
     window.show()
     if project_path is not None and not window.open_path(Path(project_path)) and screenshot:
         return 2
+    if project_path is None and not screenshot:
+        window.timeline_panel.player.play()  # the bundled sample moves the moment it opens
     if screenshot:
         out = Path(screenshot)
 
