@@ -210,21 +210,9 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
         raise MeshError("the mesh has no faces ('f' lines)", path)
 
     positions = _floats(path, v_tok, v_line, "vertex coordinates")
-    bad = ~np.isfinite(positions).all(axis=1)
-    if bad.any():
-        i = int(np.argmax(bad))
-        raise MeshError(
-            f"vertex {i + 1} (line {v_line[i]}) has a non-finite coordinate (NaN or infinity)",
-            path,
-        )
+    _require_finite(path, positions, v_line, "vertex {} (line {}) has a non-finite coordinate")
     uvs = _floats(path, vt_tok, vt_line, "texture coordinates").reshape(-1, 2)
-    bad = ~np.isfinite(uvs).all(axis=1)
-    if bad.any():
-        i = int(np.argmax(bad))
-        raise MeshError(
-            f"texture coordinate {i + 1} (line {vt_line[i]}) is not finite (NaN or infinity)",
-            path,
-        )
+    _require_finite(path, uvs, vt_line, "texture coordinate {} (line {}) is not finite")
 
     size_arr = np.asarray(sizes, dtype=np.intp)
     lines = np.asarray(f_line, dtype=np.intp)
@@ -234,6 +222,14 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
         path, raw_vt, np.asarray(f_nvt), len(uvs), size_arr, lines, "texture coordinate"
     )
     return _ObjData(positions, uvs, size_arr, corner_v, corner_vt, lines)
+
+
+def _require_finite(path: Path, values: Array, lines: Array, message: str) -> None:
+    """Name the first row holding NaN or infinity (``message`` takes its number and line)."""
+    bad = ~np.isfinite(values).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise MeshError(message.format(i + 1, lines[i]) + " (NaN or infinity)", path)
 
 
 def _floats(path: Path, tokens: list[list[str]], lines: list[int], what: str) -> Array:

@@ -114,11 +114,11 @@ MESH_ARRAYS = {  # member -> dtype, shape in terms of the counts in project.json
 }
 
 # What corrupt bytes can make the standard library, numpy or Pillow raise. load_project turns
-# each into a ProjectError; anything else escaping is a bug in this module. (zipfile raises
-# NotImplementedError for a compression method it does not know.)
+# each into a ProjectError; anything else escaping is a bug in this module. (RuntimeError also
+# covers zipfile's error for a compression method it does not know.)
 _DAMAGE = (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, struct.error, EOFError,
            OSError, ValueError, KeyError, IndexError, TypeError, ArithmeticError, RuntimeError,
-           NotImplementedError, SyntaxError, MemoryError, AttributeError)
+           SyntaxError, MemoryError, AttributeError)
 
 
 # --------------------------------------------------------------------------- saving
