@@ -21,6 +21,7 @@ class InfluenceArea:
     colour: tuple[int, int, int] = (255, 128, 0)
     activation: float = 0.0  # the user's own slider, added to what linked poses give
     visible: bool = True
+    wrinkle_map: str = ""  # the wrinkled normal map this area reveals ("" = the first one)
 
     def __post_init__(self) -> None:
         self.mask = np.clip(np.ascontiguousarray(self.mask, dtype=np.float32), 0.0, 1.0)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from studio.core.errors import StudioError
 from studio.core.influence import InfluenceSetup
 from studio.core.mesh import FaceMesh
@@ -24,10 +26,23 @@ class Project:
     timeline: Timeline = field(default_factory=Timeline)
     view: dict = field(default_factory=dict)
     extra: dict = field(default_factory=dict)  # unknown project.json keys, kept for newer tools
+    # (W,) bool per welded vertex: not skin (eyes, teeth, ...), so never wrinkled; None = all skin
+    not_face: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         for pose in self.poses:
             check_pose_topology(self.mesh.rest, pose, self.mesh.source or None)
+        if self.not_face is not None:
+            self.not_face = np.asarray(self.not_face, dtype=bool)
+            if self.not_face.shape != (self.mesh.n_welded,):
+                raise StudioError(f"the not-face flags cover {self.not_face.shape} vertices, "
+                                  f"the mesh has {self.mesh.n_welded}")
+
+    def skin_weights(self) -> np.ndarray:
+        """(W,) float32: 1 where wrinkles may show, 0 on vertices marked not-face."""
+        if self.not_face is None:
+            return np.ones(self.mesh.n_welded, np.float32)
+        return (~self.not_face).astype(np.float32)
 
     @property
     def pose_names(self) -> list[str]:

@@ -6,8 +6,6 @@ OpenGL convention (+Y green up), 8- or 16-bit; a flat map is RGB (128, 128, 255)
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from studio.core.errors import ImageError
@@ -30,16 +28,70 @@ def check_image(image: Array, what: str, channels: int = 3) -> Array:
     return np.ascontiguousarray(image)
 
 
-@dataclass(eq=False)
-class FaceTextures:
-    diffuse: Array  # (H, W, 3) uint8 sRGB skin colour
-    normal_neutral: Array  # (H, W, 3) uint8/uint16 tangent-space normals
-    normal_wrinkled: Array  # (H, W, 3) uint8/uint16, every wrinkle the face can show
+DEFAULT_WRINKLE_MAP = "wrinkles"
+MAX_WRINKLE_MAPS = 4  # the shader blends up to four wrinkled maps per pixel (one vec4 of weights)
 
-    def __post_init__(self) -> None:
-        self.diffuse = check_image(self.diffuse, "diffuse map")
-        self.normal_neutral = check_image(self.normal_neutral, "neutral normal map")
-        self.normal_wrinkled = check_image(self.normal_wrinkled, "wrinkled normal map")
+
+class FaceTextures:
+    """Diffuse, neutral normals and one or more named wrinkled normal maps.
+
+    Several wrinkled maps (issue 10) let, say, forehead compression and smile lines be authored
+    apart; each technique-1 and technique-2 area names the map it reveals ("" = the first one).
+    ``normal_wrinkled`` is the first map, the one a project with a single map has.
+    """
+
+    def __init__(self, diffuse: Array, normal_neutral: Array, normal_wrinkled: Array | None = None,
+                 *, wrinkle_maps: dict[str, Array] | None = None) -> None:
+        if (normal_wrinkled is None) == (wrinkle_maps is None):
+            raise ImageError("give either one wrinkled normal map or a dict of named ones")
+        maps = {DEFAULT_WRINKLE_MAP: normal_wrinkled} if wrinkle_maps is None else wrinkle_maps
+        if not maps:
+            raise ImageError("a face needs at least one wrinkled normal map")
+        if len(maps) > MAX_WRINKLE_MAPS:
+            raise ImageError(f"a face can have at most {MAX_WRINKLE_MAPS} wrinkled normal maps, "
+                             f"got {len(maps)}")
+        self.diffuse = check_image(diffuse, "diffuse map")
+        self.normal_neutral = check_image(normal_neutral, "neutral normal map")
+        self.wrinkle_maps: dict[str, Array] = {}
+        for name, image in maps.items():
+            self.set_wrinkle_map(name, image)
+
+    @property
+    def normal_wrinkled(self) -> Array:
+        return next(iter(self.wrinkle_maps.values()))
+
+    @normal_wrinkled.setter
+    def normal_wrinkled(self, image: Array) -> None:
+        self.set_wrinkle_map(self.wrinkle_map_names[0], image)
+
+    @property
+    def wrinkle_map_names(self) -> list[str]:
+        return list(self.wrinkle_maps)
+
+    def map_index(self, name: str) -> int:
+        """Shader index of a named map; "" or a name no longer present means the first map."""
+        names = self.wrinkle_map_names
+        return names.index(name) if name in names else 0
+
+    def set_wrinkle_map(self, name: str, image: Array) -> None:
+        """Replace the named map, or add it after the others."""
+        name = str(name).strip()
+        if not name:
+            raise ImageError("a wrinkled normal map needs a name")
+        if name not in self.wrinkle_maps and len(self.wrinkle_maps) >= MAX_WRINKLE_MAPS:
+            raise ImageError(f"a face can have at most {MAX_WRINKLE_MAPS} wrinkled normal maps")
+        self.wrinkle_maps[name] = check_image(image, f"wrinkled normal map '{name}'")
+
+    def remove_wrinkle_map(self, name: str) -> Array:
+        if len(self.wrinkle_maps) == 1:
+            raise ImageError("the last wrinkled normal map cannot be removed")
+        return self.wrinkle_maps.pop(name)
+
+    def rename_wrinkle_map(self, old: str, new: str) -> None:
+        new = str(new).strip()
+        if not new or (new in self.wrinkle_maps and new != old):
+            raise ImageError(f"a wrinkled normal map needs a new, unused name (got '{new}')")
+        self.wrinkle_maps = {new if k == old else k: v for k, v in self.wrinkle_maps.items()}
 
 
 def resize_nearest(image: Array, height: int, width: int) -> Array:

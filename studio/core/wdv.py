@@ -9,6 +9,7 @@ area order.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,10 +29,22 @@ class WdvArea:
     colour: tuple[int, int, int] = (0, 170, 255)
     cone_angle_deg: float = 20.0
     enabled: bool = True
+    wrinkle_map: str = ""  # the wrinkled normal map this area reveals ("" = the first one)
+    # (W,) painted per-vertex cone half-angles in degrees; 0 (or None: all) = the area's angle
+    cone_angles_deg: Array | None = None
 
     def __post_init__(self) -> None:
         self.directions = np.ascontiguousarray(self.directions, dtype=np.float32)
         self.lengths = np.ascontiguousarray(self.lengths, dtype=np.float32)
+        if self.cone_angles_deg is not None:
+            self.cone_angles_deg = np.ascontiguousarray(self.cone_angles_deg, dtype=np.float32)
+
+    def vertex_cones_deg(self) -> Array:
+        """(W,) cone half-angle of each vertex: painted where painted, else the area's."""
+        area = np.float32(self.cone_angle_deg)
+        if self.cone_angles_deg is None:
+            return np.full(len(self.lengths), area, np.float32)
+        return np.where(self.cone_angles_deg > 0.0, self.cone_angles_deg, area).astype(np.float32)
 
     @classmethod
     def empty(cls, name: str, pose: str, n_welded: int, **kwargs) -> WdvArea:
@@ -76,22 +89,33 @@ class WdvSetup:
     expression_factor: float = 1.0  # k in SPEC §5
     scale_free: bool = True  # divide |δ| by the authored length, so w = k at the key pose
 
-    def pack_slots(self, n_welded: int) -> tuple[Array, Array]:
-        """Per-vertex slots for the renderer.
+    def pack_slots(self, n_welded: int,
+                   map_index: Callable[[str], int] | None = None) -> WdvSlots:
+        """Per-vertex slots for the renderer (see ``WdvSlots``); unused slots are zero.
 
-        Returns ``dirs`` (W, SLOTS, 4) holding direction xyz and authored length, and ``cones``
-        (W, SLOTS) holding each slot's cone half-angle in radians. Unused slots are zero.
+        ``map_index`` turns an area's wrinkled-map name into the shader's map index.
         """
-        dirs = np.zeros((n_welded, SLOTS, 4), dtype=np.float32)
-        cones = np.zeros((n_welded, SLOTS), dtype=np.float32)
+        slots = WdvSlots(np.zeros((n_welded, SLOTS, 4), dtype=np.float32),
+                         np.zeros((n_welded, SLOTS), dtype=np.float32),
+                         np.zeros((n_welded, SLOTS), dtype=np.float32))
         used = np.zeros(n_welded, dtype=np.int32)
         for area in self.areas:
             if not area.enabled:
                 continue
             idx = np.flatnonzero(area.authored & (used < SLOTS))
             slot = used[idx]
-            dirs[idx, slot, :3] = area.directions[idx]
-            dirs[idx, slot, 3] = area.lengths[idx]
-            cones[idx, slot] = np.radians(area.cone_angle_deg)
+            slots.dirs[idx, slot, :3] = area.directions[idx]
+            slots.dirs[idx, slot, 3] = area.lengths[idx]
+            slots.cones[idx, slot] = np.radians(area.vertex_cones_deg()[idx])
+            slots.maps[idx, slot] = map_index(area.wrinkle_map) if map_index else 0
             used[idx] += 1
-        return dirs, cones
+        return slots
+
+
+@dataclass
+class WdvSlots:
+    """What the technique-2 vertex shader reads per vertex, for up to ``SLOTS`` areas."""
+
+    dirs: Array  # (W, SLOTS, 4) direction xyz and authored length
+    cones: Array  # (W, SLOTS) cone half-angle in radians
+    maps: Array  # (W, SLOTS) index of the wrinkled normal map the slot's area reveals

@@ -19,7 +19,7 @@ from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
 from studio.core.textures import FaceTextures, pack_normal_maps
-from studio.core.wdv import SLOTS
+from studio.core.wdv import SLOTS, WdvSlots
 from studio.render.shaders import build_program
 
 TECHNIQUES = ("flat", "none", "t1", "t2", "strain")
@@ -256,11 +256,12 @@ class FaceRenderer:
         self._t1_dirty = True
         self._t1_dirty_rect = None
 
-    def set_wdv(self, dirs: np.ndarray, cones: np.ndarray, expression_factor: float = 1.0,
+    def set_wdv(self, slots: WdvSlots, expression_factor: float = 1.0,
                 scale_free: bool = True) -> None:
         """Technique 2 slots per welded vertex (see ``WdvSetup.pack_slots``)."""
         weld = self.mesh.weld
-        packed = np.hstack([dirs.reshape(len(dirs), -1)[weld], cones[weld]]).astype("f4")
+        packed = np.hstack([slots.dirs.reshape(len(slots.dirs), -1)[weld],
+                            slots.cones[weld]]).astype("f4")
         self._wdv.write(packed.tobytes())
         self.expression_factor = float(expression_factor)
         self.scale_free = bool(scale_free)

@@ -41,8 +41,8 @@ class ProjectScene:
 
     def reload_wdv(self) -> None:
         wdv = self.project.wdv
-        dirs, cones = wdv.pack_slots(self.project.mesh.n_welded)
-        self.renderer.set_wdv(dirs, cones, wdv.expression_factor, wdv.scale_free)
+        slots = wdv.pack_slots(self.project.mesh.n_welded, self.project.textures.map_index)
+        self.renderer.set_wdv(slots, wdv.expression_factor, wdv.scale_free)
 
     def set_pose_weights(self, weights: Mapping[str, float]) -> None:
         """Deform the face to these key-pose weights; linked technique-1 areas follow."""
