@@ -1,9 +1,15 @@
 #version 330 core
-// Face fragment shader: normal-mapped Blinn-Phong, blending a neutral and a wrinkled shading by
-// the wrinkle weight of the technique (SPEC §4, §5), plus the debug views.
-// Defines: TECHNIQUE_{FLAT,NONE,T1,T2}; T1_DIRECT (loop over every mask layer, the thesis's
-// form, instead of the composed weight texture); BLEND_NORMALS (blend the two normals and light
-// once, instead of the thesis's blend of two shaded colours).
+// Face fragment shader: normal-mapped Blinn-Phong, blending the neutral shading with up to four
+// wrinkled shadings by the per-map wrinkle weights of the technique (SPEC §4, §5), plus the
+// debug views.
+// Defines: TECHNIQUE_{FLAT,NONE,T1,T2,STRAIN}; T1_DIRECT (loop over every mask layer, the
+// thesis's form, instead of the composed weight texture); BLEND_NORMALS (blend the normals and
+// light once, instead of the thesis's blend of shaded colours).
+//
+// Several wrinkled maps, order-independent: with weights w_m (one per map, each in [0, 1]) and
+// W = sum of w_m, weights are scaled by 1 / W where W > 1; the result is
+// (1 - W) * neutral + sum of w_m * wrinkled_m — a weighted average, the same whatever order the
+// areas or maps come in. With one map it is exactly the thesis's mix(neutral, wrinkled, w).
 #include "common.glsl"
 
 in vec3 v_view_pos;
@@ -11,31 +17,33 @@ in vec3 v_normal;
 in vec3 v_tangent;
 in vec3 v_bitangent;
 in vec2 v_texcoord;
-in float v_wrinkle;
+in vec4 v_weights;
+in float v_skin;
 
 uniform sampler2D u_diffuse;
-uniform sampler2D u_normals;   // rg: neutral map's xy, ba: wrinkled map's xy (z rebuilt)
-uniform int u_view_mode;       // 0 shaded, 1 wrinkle heat map, 2 normals, 3 UV checker
+uniform sampler2D u_normals;          // rg: neutral map's xy, ba: first wrinkled map's xy
+uniform sampler2DArray u_more_maps;   // rg: xy of wrinkled maps 1, 2, 3 (layer = map - 1)
+uniform int u_view_mode;              // 0 shaded, 1 wrinkle heat map, 2 normals, 3 UV checker
 
 #if defined(TECHNIQUE_T1) && defined(T1_DIRECT)
 uniform sampler2DArray u_masks;     // one layer per influence area; the layer count is read here
-uniform sampler2D u_activations;    // 1 x N, R32F: the activation vector
+uniform sampler2D u_activations;    // 1 x N, RG32F: activation, index of the area's map
 
-float wrinkle_weight() {
+vec4 wrinkle_weights() {
     int areas = textureSize(u_masks, 0).z;
-    float s = 0.0;
+    vec4 s = vec4(0.0);
     for (int i = 0; i < areas; ++i) {
-        float a = texelFetch(u_activations, ivec2(i, 0), 0).r;
-        if (a > 0.0) s += texture(u_masks, vec3(v_texcoord, float(i))).r * a;
+        vec2 a = texelFetch(u_activations, ivec2(i, 0), 0).rg;
+        if (a.x > 0.0) s[int(a.y)] += texture(u_masks, vec3(v_texcoord, float(i))).r * a.x;
     }
     return clamp(s, 0.0, 1.0);
 }
 #elif defined(TECHNIQUE_T1)
-uniform sampler2D u_t1_weight;      // Σ mask·activation, composed when the activations change
+uniform sampler2D u_t1_weight;      // per map: sum of mask * activation, composed on change
 
-float wrinkle_weight() { return texture(u_t1_weight, v_texcoord).r; }
+vec4 wrinkle_weights() { return texture(u_t1_weight, v_texcoord); }
 #else
-float wrinkle_weight() { return v_wrinkle; }
+vec4 wrinkle_weights() { return v_weights; }
 #endif
 
 out vec4 frag_colour;
@@ -43,6 +51,12 @@ out vec4 frag_colour;
 vec3 unpack_normal(vec2 xy) {
     vec2 n = xy * 2.0 - 1.0;
     return vec3(n, sqrt(max(1.0 - dot(n, n), 0.0)));
+}
+
+// Tangent-space normal of wrinkled map m (0 comes with the neutral map's fetch).
+vec3 wrinkled_normal(int m, vec4 normals) {
+    if (m == 0) return unpack_normal(normals.zw);
+    return unpack_normal(texture(u_more_maps, vec3(v_texcoord, float(m - 1))).xy);
 }
 
 vec3 heat(float t) {
@@ -53,7 +67,12 @@ vec3 heat(float t) {
 void main() {
     vec3 n_geo = normalize(v_normal);
     vec3 view_dir = normalize(-v_view_pos);
-    float s = wrinkle_weight();
+    vec4 w = wrinkle_weights() * v_skin;
+    float total = w.x + w.y + w.z + w.w;
+    if (total > 1.0) {
+        w /= total;
+        total = 1.0;
+    }
 #ifdef TECHNIQUE_FLAT
     vec3 colour = shade(vec3(0.62), n_geo, view_dir);
     vec3 n = n_geo;
@@ -61,21 +80,28 @@ void main() {
     mat3 tbn = mat3(normalize(v_tangent), normalize(v_bitangent), n_geo);
     vec3 albedo = srgb_to_linear(texture(u_diffuse, v_texcoord).rgb);
     vec4 normals = texture(u_normals, v_texcoord);
-    vec3 n = normalize(tbn * unpack_normal(normals.xy));
+    vec3 n_neutral = normalize(tbn * unpack_normal(normals.xy));
+    vec3 n_sum = n_neutral * (1.0 - total);
 #ifdef BLEND_NORMALS
-    if (s > 0.0) n = normalize(mix(n, normalize(tbn * unpack_normal(normals.zw)), s));
+    for (int m = 0; m < 4; ++m) {
+        if (w[m] > 0.0) n_sum += w[m] * normalize(tbn * wrinkled_normal(m, normals));
+    }
+    vec3 n = normalize(n_sum);
     vec3 colour = shade(albedo, n, view_dir);
 #else
-    vec3 colour = shade(albedo, n, view_dir);
-    if (s > 0.0) {
-        vec3 n_w = normalize(tbn * unpack_normal(normals.zw));
-        colour = mix(colour, shade(albedo, n_w, view_dir), s);   // the thesis's colour blend
-        n = normalize(mix(n, n_w, s));
+    vec3 colour = shade(albedo, n_neutral, view_dir) * (1.0 - total);
+    for (int m = 0; m < 4; ++m) {
+        if (w[m] > 0.0) {
+            vec3 n_m = normalize(tbn * wrinkled_normal(m, normals));
+            colour += w[m] * shade(albedo, n_m, view_dir);   // the thesis's colour blend
+            n_sum += w[m] * n_m;
+        }
     }
+    vec3 n = normalize(n_sum);
 #endif
 #endif
     if (u_view_mode == 1) {
-        colour = mix(srgb_to_linear(heat(s)), colour * 0.3, 0.35);
+        colour = mix(srgb_to_linear(heat(total)), colour * 0.3, 0.35);
     } else if (u_view_mode == 2) {
         colour = srgb_to_linear(n * 0.5 + 0.5);
     } else if (u_view_mode == 3) {

@@ -48,6 +48,26 @@ def test_studio_glb_round_trips_everything(small, tmp_path):
     assert back.timeline.to_dict() == small.timeline.to_dict()
 
 
+def test_glb_keeps_several_wrinkled_maps_cones_and_not_face(small, tmp_path):
+    face = make_sample(561, texture_size=64, mask_size=32)
+    assert len(face.textures.wrinkle_maps) == 2  # the sample reveals two maps
+    cones = np.zeros(face.mesh.n_welded, np.float32)
+    cones[::7] = 8.0
+    face.wdv.areas[1].cone_angles_deg = cones
+    face.not_face = np.arange(face.mesh.n_welded) % 5 == 0
+    save_gltf(face, tmp_path / "face.glb")
+    back = load_gltf(tmp_path / "face.glb")
+    assert back.textures.wrinkle_map_names == face.textures.wrinkle_map_names
+    for name, image in face.textures.wrinkle_maps.items():
+        assert np.array_equal(back.textures.wrinkle_maps[name], image)
+    assert [a.wrinkle_map for a in back.influence.areas] == \
+        [a.wrinkle_map for a in face.influence.areas]
+    assert [a.wrinkle_map for a in back.wdv.areas] == [a.wrinkle_map for a in face.wdv.areas]
+    np.testing.assert_array_equal(back.wdv.areas[1].cone_angles_deg, cones)
+    assert back.wdv.areas[0].cone_angles_deg is None
+    np.testing.assert_array_equal(back.not_face, face.not_face)
+
+
 def test_the_glb_is_valid_for_other_readers(small, tmp_path):
     import trimesh
 

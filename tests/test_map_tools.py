@@ -70,3 +70,38 @@ def test_export_from_the_file_menu(window, monkeypatch, tmp_path, kind):
         glb = tmp_path / "engine" / "face.glb"
         assert (tmp_path / "engine" / "wrinkles.json").exists()
     assert load_gltf(glb).mesh.n_welded == window.doc.project.mesh.n_welded
+
+
+def test_wrinkled_maps_are_added_renamed_and_removed_with_their_areas(window, monkeypatch,
+                                                                      tmp_path):
+    doc, tools = window.doc, window.map_tools
+    textures = doc.project.textures
+    first, second = textures.wrinkle_map_names
+    area = next(a for a in doc.project.influence.areas if a.wrinkle_map == second)
+    names = iter(["smile lines", "cheek folds"])
+    monkeypatch.setattr(QInputDialog, "getText",
+                        staticmethod(lambda *a, **k: (next(names), True)))
+    image = np.full((64, 64, 3), (150, 120, 250), np.uint8)
+    write_png(tmp_path / "smile.png", image)
+    answer_open(monkeypatch, tmp_path / "smile.png")
+    tools.add_wrinkled()
+    assert textures.wrinkle_map_names == [first, second, "smile lines"]
+    assert np.array_equal(textures.wrinkle_maps["smile lines"], image)
+    tools.rename_wrinkled(second)  # -> "cheek folds": the areas that revealed it follow
+    assert textures.wrinkle_map_names == [first, "cheek folds", "smile lines"]
+    assert area.wrinkle_map == "cheek folds"
+    tools.remove_wrinkled("cheek folds")
+    assert textures.wrinkle_map_names == [first, "smile lines"] and area.wrinkle_map == ""
+    for _ in range(3):
+        doc.undo_stack.undo()
+    assert textures.wrinkle_map_names == [first, second] and area.wrinkle_map == second
+
+
+def test_the_maps_menu_lists_each_wrinkled_map(window):
+    bar = window.menuBar()
+    maps = next(a.menu() for a in bar.actions() if a.text().replace("&", "") == "Maps")
+    maps.aboutToShow.emit()
+    wrinkled = next(a.menu() for a in maps.actions()
+                    if a.text().replace("&", "") == "Wrinkled Normal Maps")
+    titles = [a.text() for a in wrinkled.actions() if a.menu()]
+    assert titles == window.doc.project.textures.wrinkle_map_names

@@ -173,6 +173,51 @@ def test_round_trip_keeps_every_array_and_setting(saved: Path, project: Project)
     assert loaded.extra == {}
 
 
+def with_beyond_thesis_fields(project: Project) -> Project:
+    """Two wrinkled maps named by areas, painted cone angles and not-face vertices (format 2)."""
+    smile_lines = np.full((20, 20, 3), (140, 110, 250), np.uint8)
+    project.textures.set_wrinkle_map("smile lines", smile_lines)
+    project.influence.areas[1].wrinkle_map = "smile lines"
+    project.wdv.areas[0].wrinkle_map = "smile lines"
+    project.wdv.areas[0].cone_angles_deg = np.array([0, 5, 0, 12.5, 90], np.float32)
+    project.not_face = np.array([False, False, True, False, True])
+    return project
+
+
+def test_several_wrinkled_maps_cones_and_not_face_round_trip(tmp_path: Path,
+                                                            project: Project) -> None:
+    with_beyond_thesis_fields(project)
+    save_project(project, tmp_path / "maps.wrinkle")
+    loaded = load_project(tmp_path / "maps.wrinkle")
+    assert loaded.textures.wrinkle_map_names == ["wrinkles", "smile lines"]
+    for name, image in project.textures.wrinkle_maps.items():
+        assert np.array_equal(loaded.textures.wrinkle_maps[name], image)
+    assert [a.wrinkle_map for a in loaded.influence.areas] == ["", "smile lines", ""]
+    assert [a.wrinkle_map for a in loaded.wdv.areas] == ["smile lines", ""]
+    np.testing.assert_array_equal(loaded.wdv.areas[0].cone_angles_deg, [0, 5, 0, 12.5, 90])
+    assert loaded.wdv.areas[1].cone_angles_deg is None
+    np.testing.assert_array_equal(loaded.not_face, [False, False, True, False, True])
+
+
+def test_a_version_1_file_loads_with_one_map_and_no_flags(tmp_path: Path, saved: Path) -> None:
+    def as_version_1(doc: dict) -> None:
+        doc["version"] = 1
+        del doc["wrinkle_maps"]
+        for area in doc["influence"]["areas"] + doc["wdv"]["areas"]:
+            del area["wrinkle_map"]
+
+    loaded = load_project(rewrite(saved, tmp_path / "v1.wrinkle", doc=as_version_1))
+    assert loaded.textures.wrinkle_map_names == ["wrinkles"]
+    assert loaded.not_face is None and loaded.wdv.areas[0].cone_angles_deg is None
+
+
+def test_an_area_naming_a_missing_wrinkled_map_is_refused(tmp_path: Path,
+                                                         project: Project) -> None:
+    project.influence.areas[0].wrinkle_map = "gone"
+    with pytest.raises(ProjectError, match="wrinkled map 'gone'"):
+        save_project(project, tmp_path / "bad.wrinkle")
+
+
 def test_a_second_round_trip_is_exact(tmp_path: Path, saved: Path) -> None:
     first = load_project(saved)
     save_project(first, tmp_path / "again.wrinkle")
@@ -249,11 +294,11 @@ def test_eight_bit_masks_from_an_image_editor_are_read(tmp_path: Path, saved: Pa
 
 
 def test_older_files_are_migrated(monkeypatch: pytest.MonkeyPatch, saved: Path) -> None:
-    def v1_to_v2(doc: dict) -> dict:
+    def upgrade(doc: dict) -> dict:
         return {**doc, "name": doc["name"] + " (upgraded)"}
 
-    monkeypatch.setattr(project_file, "FORMAT_VERSION", 2)
-    monkeypatch.setattr(project_file, "MIGRATIONS", {1: v1_to_v2})
+    monkeypatch.setattr(project_file, "FORMAT_VERSION", FORMAT_VERSION + 1)
+    monkeypatch.setattr(project_file, "MIGRATIONS", {FORMAT_VERSION: upgrade})
     assert load_project(saved).name == "Test face (upgraded)"
     monkeypatch.setattr(project_file, "MIGRATIONS", {})
     with pytest.raises(ProjectError, match="no longer supported"):

@@ -217,21 +217,31 @@ def _window(image, uv, radius=6):
     return image[max(r - radius, 0):r + radius + 1, max(c - radius, 0):c + radius + 1]
 
 
-def test_wrinkled_map_differs_only_where_wrinkles_are(face):
+MAP_REGIONS = {  # the sample's two wrinkled maps, each with the regions whose wrinkles it holds
+    "brow": ("forehead", "forehead right", "forehead left", "between brows"),
+    "eyes and cheeks": ("eye corner right", "eye corner left", "under eye right",
+                        "under eye left"),
+}
+
+
+def test_each_wrinkled_map_differs_only_where_its_wrinkles_are(face):
     neutral = face.textures.normal_neutral.astype(int)
-    wrinkled = face.textures.normal_wrinkled.astype(int)
     uvs = landmark_uvs()
-    for name in ("forehead", "forehead right", "forehead left", "between brows",
-                 "eye corner right", "eye corner left", "under eye right", "under eye left"):
-        radius = 30 if name == "between brows" else 12  # frown lines flank the landmark
-        diff = np.abs(_window(wrinkled, uvs[name], radius) - _window(neutral, uvs[name], radius))
-        assert diff.max() > 40, name  # clearly visible when fully blended
-    for name in ("chin", "nose tip"):
-        diff = np.abs(_window(wrinkled, uvs[name]) - _window(neutral, uvs[name]))
-        assert diff.max() <= 1, name
-    # the back of the head has no wrinkles at all
-    for uv in _back_of_head_uvs(face):
-        assert (wrinkled[texel(wrinkled, uv)] == neutral[texel(neutral, uv)]).all()
+    assert face.textures.wrinkle_map_names == list(MAP_REGIONS)
+    for map_name, regions in MAP_REGIONS.items():
+        wrinkled = face.textures.wrinkle_maps[map_name].astype(int)
+        others = [r for other, rs in MAP_REGIONS.items() if other != map_name for r in rs]
+        for name in regions:
+            radius = 30 if name == "between brows" else 12  # frown lines flank the landmark
+            diff = np.abs(_window(wrinkled, uvs[name], radius)
+                          - _window(neutral, uvs[name], radius))
+            assert diff.max() > 40, (map_name, name)  # clearly visible when fully blended
+        for name in (*others, "chin", "nose tip"):
+            diff = np.abs(_window(wrinkled, uvs[name]) - _window(neutral, uvs[name]))
+            assert diff.max() <= 1, (map_name, name)
+        # the back of the head has no wrinkles at all
+        for uv in _back_of_head_uvs(face):
+            assert (wrinkled[texel(wrinkled, uv)] == neutral[texel(neutral, uv)]).all()
 
 
 def test_neutral_map_is_nearly_flat(face):

@@ -259,3 +259,47 @@ def test_selection_stays_interactive_on_30000_vertices(qtbot, dialogs):
         w.doc.undo_stack.setClean()
         w.close()
         w.deleteLater()
+
+
+def test_the_cone_brush_paints_per_vertex_angles_in_one_undo_step(window, qtbot, tmp_path):
+    doc, panel = window.doc, window.wdv_tools.panel
+    author_forehead(window, qtbot)
+    area = doc.project.wdv.areas[0]
+    assert area.cone_angles_deg is None
+    panel.cone_paint.setValue(4.0)
+    qtbot.mouseClick(panel.cone_brush_button, Qt.MouseButton.LeftButton)
+    assert window.wdv_tools.tool.mode == "cone"
+    start, end = forehead_box(window)
+    middle_y = (start.y() + end.y()) // 2
+    steps = doc.undo_stack.count()
+    drag(qtbot, window.viewport, QPoint(start.x(), middle_y), QPoint(end.x(), middle_y))
+    assert doc.undo_stack.count() == steps + 1  # the whole stroke is one step
+    painted = area.cone_angles_deg > 0
+    assert painted.sum() > 10 and set(np.unique(area.cone_angles_deg)) == {0.0, 4.0}
+    assert doc.selection[painted].mean() > 0.5  # where the stroke went: over the forehead
+    assert window.save_to(tmp_path / "cones.wrinkle")
+    back = load_project(tmp_path / "cones.wrinkle").wdv.areas[0].cone_angles_deg
+    np.testing.assert_array_equal(back, area.cone_angles_deg)
+    window.wdv_tools.overlay.visible = False
+    doc.set_pose_weight("surprise", 1.0)
+    doc.set_pose_weight("frown", 1.0)  # moves the forehead off its authored direction
+    narrow = viewport_image(window)
+    for _ in range(3):  # the two weights, then the stroke
+        doc.undo_stack.undo()
+    assert area.cone_angles_deg is None
+    doc.set_pose_weight("surprise", 1.0)
+    doc.set_pose_weight("frown", 1.0)
+    wide = viewport_image(window)
+    assert region_difference(wide, narrow, viewport_marks(window)["forehead"]) > 0.5
+
+
+def test_an_area_chooses_its_wrinkled_map_from_the_panel(window, qtbot):
+    doc, panel = window.doc, window.wdv_tools.panel
+    names = doc.project.textures.wrinkle_map_names
+    assert len(names) == 2 and panel.map_combo.count() == 2
+    area = window.wdv_tools.current_area
+    panel.map_combo.setCurrentIndex(1)
+    panel.map_combo.activated.emit(1)
+    assert area.wrinkle_map == names[1]
+    doc.undo_stack.undo()
+    assert doc.project.textures.map_index(area.wrinkle_map) == 0

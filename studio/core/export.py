@@ -1,6 +1,6 @@
 """Engine-ready output besides the glTF: masks as PNGs (one per area, and four areas packed into
-the RGBA channels of one image, as engines sample them), the pose → area links as JSON, and the
-GLSL of both techniques."""
+the RGBA channels of one image, as engines sample them), the wrinkled normal maps, the pose →
+area links and each area's wrinkled map as JSON, and the GLSL of both techniques."""
 
 from __future__ import annotations
 
@@ -44,6 +44,7 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
     try:
         (folder / "masks").mkdir(parents=True, exist_ok=True)
         (folder / "shaders").mkdir(exist_ok=True)
+        (folder / "maps").mkdir(exist_ok=True)
     except OSError as exc:
         raise StudioError(f"cannot create the export folder: {exc.strerror}", folder) from None
     written = [folder / "face.glb"]
@@ -60,16 +61,31 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
         write_png(path, rgba)
         written.append(path)
         layout.append({"image": path.name, "channels": [a.name for a in areas[4 * k:4 * k + 4]]})
+    textures = project.textures
+    maps = []
+    for i, (name, image) in enumerate(textures.wrinkle_maps.items()):
+        path = folder / "maps" / f"wrinkled_{i}_{safe_name(name)}.png"
+        write_png(path, image)
+        written.append(path)
+        maps.append({"name": name, "index": i, "image": f"maps/{path.name}"})
+    path = folder / "maps" / "neutral.png"
+    write_png(path, textures.normal_neutral)
+    written.append(path)
     links = {
+        "wrinkle_maps": maps,
         "areas": [{"name": a.name, "mask": f"masks/{i:02d}_{safe_name(a.name)}.png",
                    "packed": {"image": f"masks/packed_{i // 4:02d}.png", "channel": "RGBA"[i % 4]},
-                   "activation": a.activation} for i, a in enumerate(areas)],
+                   "activation": a.activation,
+                   "wrinkle_map": textures.map_index(a.wrinkle_map)}
+                  for i, a in enumerate(areas)],
         "pose_links": project.influence.links,
         "packed_layout": layout,
         "wdv": {"expression_factor": project.wdv.expression_factor,
                 "scale_free": project.wdv.scale_free,
                 "areas": [{"name": a.name, "pose": a.pose, "cone_angle_deg": a.cone_angle_deg,
-                           "attributes": [f"_WRINKLE_DIR_{n}", f"_WRINKLE_LEN_{n}"]}
+                           "wrinkle_map": textures.map_index(a.wrinkle_map),
+                           "attributes": [f"_WRINKLE_DIR_{n}", f"_WRINKLE_LEN_{n}"]
+                           + ([f"_WRINKLE_CONE_{n}"] if a.cone_angles_deg is not None else [])}
                           for n, a in enumerate(project.wdv.areas)]},
     }
     path = folder / "wrinkles.json"

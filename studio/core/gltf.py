@@ -5,7 +5,9 @@ Import: the first triangle primitive with UVs; its morph targets become key pose
 ``extras.targetNames``); the material's base-colour and normal textures become the diffuse and
 neutral normal maps. Export: render vertices with UVs, one morph target per key pose, the
 textures, and each technique-2 area as custom vertex attributes ``_WRINKLE_DIR_<n>`` (VEC3) and
-``_WRINKLE_LEN_<n>`` (SCALAR). Everything else the studio authored (masks as 16-bit PNG images,
+``_WRINKLE_LEN_<n>`` (SCALAR), plus ``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where
+painted and ``_NOT_FACE`` (1 on vertices never wrinkled) where marked. Everything else the
+studio authored (masks as 16-bit PNG images, further wrinkled maps, which map each area reveals,
 links, cone angles, the timeline) rides in ``extras.wrinkleStudio``, so a file exported here
 imports back with nothing lost.
 """
@@ -264,17 +266,28 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
         mask = g.image(spec["image"]).astype(np.float32) / 65535.0
         areas.append(InfluenceArea(spec["name"], mask, tuple(spec.get("colour", (255, 128, 0))),
                                    float(spec.get("activation", 0.0)),
-                                   bool(spec.get("visible", True))))
+                                   bool(spec.get("visible", True)),
+                                   str(spec.get("wrinkle_map", ""))))
     project.influence = InfluenceSetup(areas, extras.get("influence", {}).get("links", {}))
+    if extras.get("wrinkle_maps"):
+        tex = project.textures
+        maps = {str(m["name"]): _rgb(g.image(m["image"]), tex.normal_wrinkled)
+                for m in extras["wrinkle_maps"]}
+        project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
+    if "_NOT_FACE" in attrs:
+        project.not_face = g.accessor(attrs["_NOT_FACE"])[first].ravel() > 0.5
     wdv = extras.get("wdv", {})
     wdv_areas = []
     for n, spec in enumerate(wdv.get("areas", [])):
         dirs = g.accessor(attrs[f"_WRINKLE_DIR_{n}"])[first]
         lengths = g.accessor(attrs[f"_WRINKLE_LEN_{n}"])[first, 0]
+        cones = (g.accessor(attrs[f"_WRINKLE_CONE_{n}"])[first, 0]
+                 if f"_WRINKLE_CONE_{n}" in attrs else None)
         wdv_areas.append(WdvArea(spec["name"], spec["pose"], dirs, lengths,
                                  tuple(spec.get("colour", (0, 170, 255))),
                                  float(spec.get("cone_angle_deg", 20.0)),
-                                 bool(spec.get("enabled", True))))
+                                 bool(spec.get("enabled", True)),
+                                 str(spec.get("wrinkle_map", "")), cones))
     project.wdv = WdvSetup(wdv_areas, float(wdv.get("expression_factor", 1.0)),
                            bool(wdv.get("scale_free", True)))
     if "timeline" in extras:
@@ -326,6 +339,10 @@ def save_gltf(project: Project, path: str | Path) -> None:
     for n, area in enumerate(project.wdv.areas):
         attributes[f"_WRINKLE_DIR_{n}"] = b.accessor(area.directions[weld], "VEC3")
         attributes[f"_WRINKLE_LEN_{n}"] = b.accessor(area.lengths[weld], "SCALAR")
+        if area.cone_angles_deg is not None:  # painted per-vertex cone angles, degrees
+            attributes[f"_WRINKLE_CONE_{n}"] = b.accessor(area.cone_angles_deg[weld], "SCALAR")
+    if project.not_face is not None:
+        attributes["_NOT_FACE"] = b.accessor(project.not_face[weld], "SCALAR")
     targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True)}
                for pose in project.poses]
     images: list[dict] = []
@@ -339,9 +356,11 @@ def save_gltf(project: Project, path: str | Path) -> None:
     textures = [{"source": image(tex.diffuse, "diffuse")},
                 {"source": image(tex.normal_neutral, "normal_neutral")},
                 {"source": image(tex.normal_wrinkled, "normal_wrinkled")}]
+    wrinkle_maps = [{"name": name, "image": 2 if i == 0 else image(im, f"wrinkled: {name}")}
+                    for i, (name, im) in enumerate(tex.wrinkle_maps.items())]
     influence = {"links": project.influence.links, "areas": [
         {"name": a.name, "colour": list(a.colour), "activation": a.activation,
-         "visible": a.visible,
+         "visible": a.visible, "wrinkle_map": a.wrinkle_map,
          "image": image(np.round(a.mask * 65535.0).astype(np.uint16), f"mask: {a.name}")}
         for a in project.influence.areas]}
     primitive = {"attributes": attributes, "indices": b.accessor(mesh.triangles.ravel(),
@@ -364,10 +383,12 @@ def save_gltf(project: Project, path: str | Path) -> None:
         "buffers": [{"byteLength": len(b.blob)}],
         "extras": {EXTRAS_KEY: {
             "name": project.name, "influence": influence, "timeline": project.timeline.to_dict(),
+            "wrinkle_maps": wrinkle_maps,
             "wdv": {"expression_factor": project.wdv.expression_factor,
                     "scale_free": project.wdv.scale_free,
                     "areas": [{"name": a.name, "pose": a.pose, "colour": list(a.colour),
-                               "cone_angle_deg": a.cone_angle_deg, "enabled": a.enabled}
+                               "cone_angle_deg": a.cone_angle_deg, "enabled": a.enabled,
+                               "wrinkle_map": a.wrinkle_map}
                               for a in project.wdv.areas]}}},
     }
     text = json.dumps(doc, separators=(",", ":")).encode("utf-8")

@@ -10,22 +10,28 @@ Layout (every name relative to the archive root)::
     poses/NN.npy                 (W, 3) float32  key pose NN (order of project.json "poses")
     textures/diffuse.png         RGB PNG, 8 or 16 bits as imported
     textures/normal_neutral.png  RGB PNG, 8 or 16 bits
-    textures/normal_wrinkled.png RGB PNG, 8 or 16 bits
+    textures/normal_wrinkled.png RGB PNG, 8 or 16 bits: the first wrinkled map
+    textures/wrinkled_NN.png     RGB PNG: wrinkled map NN (1, 2, 3) when there are several
+    mesh/not_face.npy            (W,)   bool     vertices never wrinkled (eyes, teeth); optional
     masks/NN_<area>.png          16-bit greyscale PNG, value / 65535 = influence (all one size)
                                  (an 8-bit greyscale PNG from an editor reads as value / 255)
     wdv/NN_directions.npy        (W, 3) float32  WDV area NN's directions
     wdv/NN_lengths.npy           (W,)   float32  WDV area NN's authored lengths
+    wdv/NN_cones.npy             (W,)   float32  painted cone angles (degrees, 0 = area's); optional
 
 ``project.json``::
 
-    {"format": "wrinkle-studio-project", "version": 1, "name": "...",
+    {"format": "wrinkle-studio-project", "version": 2, "name": "...",
      "mesh": {"source": "...", "welded_vertices": W, "render_vertices": V, "triangles": F},
      "poses": ["smile", ...],
+     "wrinkle_maps": ["wrinkles", "smile lines"],   (names of the wrinkled maps, in order)
+     "not_face": "mesh/not_face.npy",               (optional)
      "influence": {"areas": [{"name", "colour": [r, g, b], "activation", "visible",
-                              "mask": "masks/00_forehead.png"}, ...],
+                              "wrinkle_map", "mask": "masks/00_forehead.png"}, ...],
                    "links": {"pose": {"area": gain}}},
      "wdv": {"expression_factor", "scale_free",
-             "areas": [{"name", "pose", "colour", "cone_angle_deg", "enabled",
+             "areas": [{"name", "pose", "colour", "cone_angle_deg", "enabled", "wrinkle_map",
+                        "cones": "wdv/00_cones.npy" (optional),
                         "directions": "wdv/00_directions.npy",
                         "lengths": "wdv/00_lengths.npy"}, ...]},
      "view": {...}, "timeline": {...}}
@@ -81,20 +87,22 @@ from studio.core.mesh import FaceMesh
 from studio.core.png import PngError, encode_png, read_png
 from studio.core.poses import NEUTRAL, KeyPose
 from studio.core.project import Project
-from studio.core.textures import FaceTextures
+from studio.core.textures import DEFAULT_WRINKLE_MAP, MAX_WRINKLE_MAPS, FaceTextures
 from studio.core.timeline import INTERPOLATIONS, Timeline
 from studio.core.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
 
 FORMAT = "wrinkle-studio-project"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 SUFFIX = ".wrinkle"
 
 # MIGRATIONS[v] turns the project.json of a version-v file into version v + 1 (pure JSON in,
 # JSON out: a migration that moves members points the new JSON at the old member names).
 # load_project applies them in turn, so a file of any older version reaches FORMAT_VERSION.
-MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {}
+MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
+    1: lambda doc: doc,  # 2 adds optional keys only: several wrinkled maps, not-face, cones
+}
 
 # Limits that stop a damaged or hostile archive before anything large is read or allocated.
 MAX_TOTAL_BYTES = 4 << 30  # sum of the members' declared uncompressed sizes
@@ -104,8 +112,9 @@ MAX_MEMBERS = 100_000
 MAX_PIXEL_BYTES = 2 << 30  # one image's decoded pixels
 
 KNOWN_KEYS = frozenset({"format", "version", "name", "mesh", "poses", "influence", "wdv", "view",
-                        "timeline"})
+                        "timeline", "wrinkle_maps", "not_face"})
 TEXTURES = ("diffuse", "normal_neutral", "normal_wrinkled")
+NOT_FACE_MEMBER = "mesh/not_face.npy"
 MESH_ARRAYS = {  # member -> dtype, shape in terms of the counts in project.json "mesh"
     "rest": (np.float32, ("welded_vertices", 3)),
     "triangles": (np.int32, ("triangles", 3)),
@@ -288,13 +297,19 @@ def _members(project: Project,
         yield f"mesh/{key}.npy", _npy, getattr(project.mesh, key)
     for i, pose in enumerate(project.poses):
         yield _pose_member(i), _npy, pose.positions
+    if project.not_face is not None:
+        yield NOT_FACE_MEMBER, _npy, project.not_face
     for key in TEXTURES:
         yield f"textures/{key}.png", encode_png, getattr(project.textures, key)
+    for i, image in enumerate(list(project.textures.wrinkle_maps.values())[1:], start=1):
+        yield _wrinkled_member(i), encode_png, image
     for i, area in enumerate(project.influence.areas):
         yield _mask_member(i, area.name), _mask_png, area.mask
     for i, wdv in enumerate(project.wdv.areas):
         yield f"wdv/{i:02d}_directions.npy", _npy, wdv.directions
         yield f"wdv/{i:02d}_lengths.npy", _npy, wdv.lengths
+        if wdv.cone_angles_deg is not None:
+            yield _cones_member(i), _npy, wdv.cone_angles_deg
 
 
 def _document(project: Project, path: Path) -> bytes:
@@ -312,10 +327,12 @@ def _document(project: Project, path: Path) -> bytes:
                  "render_vertices": project.mesh.n_vertices,
                  "triangles": project.mesh.n_triangles},
         "poses": [pose.name for pose in project.poses],
+        "wrinkle_maps": project.textures.wrinkle_map_names,
+        **({"not_face": NOT_FACE_MEMBER} if project.not_face is not None else {}),
         "influence": {
             "areas": [{"name": a.name, "colour": [int(c) for c in a.colour],
                        "activation": float(a.activation), "visible": bool(a.visible),
-                       "mask": _mask_member(i, a.name)}
+                       "wrinkle_map": a.wrinkle_map, "mask": _mask_member(i, a.name)}
                       for i, a in enumerate(influence.areas)],
             "links": {pose: {area: float(gain) for area, gain in gains.items()}
                       for pose, gains in influence.links.items()},
@@ -325,6 +342,8 @@ def _document(project: Project, path: Path) -> bytes:
             "scale_free": bool(project.wdv.scale_free),
             "areas": [{"name": a.name, "pose": a.pose, "colour": [int(c) for c in a.colour],
                        "cone_angle_deg": float(a.cone_angle_deg), "enabled": bool(a.enabled),
+                       "wrinkle_map": a.wrinkle_map,
+                       **({"cones": _cones_member(i)} if a.cone_angles_deg is not None else {}),
                        "directions": f"wdv/{i:02d}_directions.npy",
                        "lengths": f"wdv/{i:02d}_lengths.npy"}
                       for i, a in enumerate(project.wdv.areas)],
@@ -349,6 +368,14 @@ def _npy(array: Array) -> bytes:
 def _mask_png(mask: Array) -> bytes:
     """Float mask in [0, 1] -> 16-bit greyscale PNG, the nearest of 65536 levels."""
     return encode_png(np.rint(np.clip(mask, 0.0, 1.0) * 65535.0).astype(np.uint16))
+
+
+def _wrinkled_member(index: int) -> str:
+    return f"textures/wrinkled_{index:02d}.png"
+
+
+def _cones_member(index: int) -> str:
+    return f"wdv/{index:02d}_cones.npy"
 
 
 def _pose_member(index: int) -> str:
@@ -425,9 +452,16 @@ def check_project(project: Project, path: str | Path | None = None) -> None:
         m, t = project.mesh, project.textures
         mesh = FaceMesh(m.rest, m.triangles, m.uvs, m.weld)
         Project(project.name, mesh, project.poses,
-                FaceTextures(t.diffuse, t.normal_neutral, t.normal_wrinkled))
+                FaceTextures(t.diffuse, t.normal_neutral, wrinkle_maps=dict(t.wrinkle_maps)),
+                not_face=project.not_face)
     except StudioError as exc:
         fail(exc.problem)
+    map_names = set(project.textures.wrinkle_map_names) | {""}
+    for kind, group in (("influence", project.influence.areas), ("WDV", project.wdv.areas)):
+        for a in group:
+            if a.wrinkle_map not in map_names:
+                fail(f"{kind} area '{a.name}' reveals wrinkled map '{a.wrinkle_map}', which "
+                     "does not exist")
     areas = project.influence.areas
     _check_names([a.name for a in areas], "influence area", fail)
     shapes = {a.mask.shape for a in areas}
@@ -469,6 +503,10 @@ def check_project(project: Project, path: str | Path | None = None) -> None:
         _check_number(a.cone_angle_deg, f"the cone angle of {what}", fail)
         if not 0.0 <= a.cone_angle_deg <= 180.0:
             fail(f"the cone angle of {what} must be between 0 and 180 degrees")
+        cones = a.cone_angles_deg
+        if cones is not None and (cones.shape != (n,) or not np.isfinite(cones).all()
+                                  or cones.min() < 0.0 or cones.max() > 180.0):
+            fail(f"the painted cone angles of {what} must be {n} values from 0 to 180 degrees")
     if not isinstance(project.view, dict):
         fail("the view settings must be a dictionary")
     _check_timeline(project.timeline, poses, fail)
@@ -670,6 +708,10 @@ class _Loader:
             self.fail(f"project.json lacks {where}{key}")
         return self.value(obj[key], kind, f"{where}{key}")
 
+    def optional(self, obj: dict[str, Any], key: str, kind: str, where: str,
+                 default: Any) -> Any:
+        return self.field(obj, key, kind, where) if key in obj else default
+
     def value(self, value: Any, kind: str, where: str) -> Any:
         if kind == "number":
             ok = isinstance(value, int | float) and not isinstance(value, bool) \
@@ -760,18 +802,36 @@ class _Loader:
         poses = [KeyPose(p, self.array(_pose_member(i), np.float32, (n, 3), f"key pose '{p}'"))
                  for i, p in enumerate(pose_names)]
 
-        textures = FaceTextures(*(self.image(f"textures/{key}.png", f"the {key} texture", False)
-                                  for key in TEXTURES))
+        textures = self.textures(doc)
+        not_face = None
+        if "not_face" in doc:
+            not_face = self.array(self.field(doc, "not_face", "text", ""), np.bool_, (n,),
+                                  "the not-face vertex flags")
         influence = self.influence(self.field(doc, "influence", "object", ""))
         wdv = self.wdv(self.field(doc, "wdv", "object", ""), n)
         view = self.field(doc, "view", "object", "") if "view" in doc else {}
         timeline = self.timeline(doc["timeline"]) if "timeline" in doc else Timeline()
         project = Project(name, mesh, poses, textures, influence=influence, wdv=wdv,
-                          timeline=timeline, view=view)
+                          timeline=timeline, view=view, not_face=not_face)
         unknown = {k: v for k, v in doc.items() if k not in KNOWN_KEYS}
         project.extra.update(unknown)
         check_project(project, self.path)  # names, links, WDV and timeline poses together
         return project
+
+    def textures(self, doc: dict[str, Any]) -> FaceTextures:
+        diffuse, neutral, first = (self.image(f"textures/{key}.png", f"the {key} texture", False)
+                                   for key in TEXTURES)
+        names = [DEFAULT_WRINKLE_MAP]
+        if "wrinkle_maps" in doc:
+            names = [self.value(m, "name", f"wrinkle_maps[{i}]")
+                     for i, m in enumerate(self.field(doc, "wrinkle_maps", "list", ""))]
+            if not 1 <= len(names) <= MAX_WRINKLE_MAPS or len(set(names)) != len(names):
+                self.fail(f"project.json: wrinkle_maps must name 1 to {MAX_WRINKLE_MAPS} "
+                          "different wrinkled maps")
+        maps = {names[0]: first}
+        for i, map_name in enumerate(names[1:], start=1):
+            maps[map_name] = self.image(_wrinkled_member(i), f"wrinkled map '{map_name}'", False)
+        return FaceTextures(diffuse, neutral, wrinkle_maps=maps)
 
     def timeline(self, doc: Any) -> Timeline:
         doc = self.value(doc, "object", "timeline")
@@ -797,7 +857,8 @@ class _Loader:
                 area_name, mask.astype(np.float32) / scale,
                 colour=self.field(entry, "colour", "colour", where),
                 activation=self.field(entry, "activation", "number", where),
-                visible=self.field(entry, "visible", "bool", where)))
+                visible=self.field(entry, "visible", "bool", where),
+                wrinkle_map=self.optional(entry, "wrinkle_map", "text", where, "")))
         links: dict[str, dict[str, float]] = {}
         for pose, gains in self.field(doc, "links", "object", "influence.").items():
             gains = self.value(gains, "object", f"influence.links.{pose}")
@@ -820,7 +881,11 @@ class _Loader:
                            f"the lengths of {what}"),
                 colour=self.field(entry, "colour", "colour", where),
                 cone_angle_deg=self.field(entry, "cone_angle_deg", "number", where),
-                enabled=self.field(entry, "enabled", "bool", where)))
+                enabled=self.field(entry, "enabled", "bool", where),
+                wrinkle_map=self.optional(entry, "wrinkle_map", "text", where, ""),
+                cone_angles_deg=self.array(entry["cones"], np.float32, (n,),
+                                           f"the painted cone angles of {what}")
+                if "cones" in entry else None))
         return WdvSetup(areas, self.field(doc, "expression_factor", "number", "wdv."),
                         self.field(doc, "scale_free", "bool", "wdv."))
 

@@ -21,7 +21,14 @@ from studio.core.influence import InfluenceArea, InfluenceSetup
 from studio.core.mesh import FaceMesh
 from studio.core.poses import KeyPose
 from studio.core.project import Project
-from studio.core.sample_maps import Texels, bake_normal_maps, paint_diffuse, paint_masks
+from studio.core.sample_maps import (
+    BROW_MAP,
+    EYE_MAP,
+    Texels,
+    bake_normal_maps,
+    paint_diffuse,
+    paint_masks,
+)
 from studio.core.sample_mesh import (
     BROW_Y,
     CORNER_X,
@@ -153,9 +160,13 @@ def pose_positions(geo: SampleGeometry, name: str, normals: Array) -> Array:
 # --- technique presets ---------------------------------------------------------------------------
 
 def _influence(masks: dict[str, Array]) -> InfluenceSetup:
-    areas = [InfluenceArea(name, mask, colour=MASK_COLOURS[name]) for name, mask in masks.items()]
+    areas = [InfluenceArea(name, mask, colour=MASK_COLOURS[name],
+                           wrinkle_map=BROW_MAP if name in BROW_AREAS else EYE_MAP)
+             for name, mask in masks.items()]
     return InfluenceSetup(areas=areas, links={p: dict(v) for p, v in LINKS.items()})
 
+
+BROW_AREAS = ("forehead right", "forehead left", "between brows", "forehead")
 
 WDV_AREAS: dict[str, tuple[str, Callable[[Array, Array], Array], tuple[int, int, int]]] = {
     # area: (pose, which face points belong to it, colour)
@@ -180,7 +191,8 @@ def _wdv(geo: SampleGeometry, poses: dict[str, Array]) -> WdvSetup:
         selected = np.flatnonzero(inside & (moved > 0.05 * moved[inside].max()))
         result = wrinkle_directions(geo.rest, target, selected)
         areas.append(WdvArea(name, pose, result.directions, result.lengths, colour=colour,
-                             cone_angle_deg=20.0))
+                             cone_angle_deg=20.0,
+                             wrinkle_map=BROW_MAP if name in BROW_AREAS else EYE_MAP))
     return WdvSetup(areas=areas, expression_factor=1.0, scale_free=True)
 
 
@@ -194,7 +206,7 @@ def _build(vertices: int, texture_size: int, mask_size: int) -> Project:
     poses = {name: pose_positions(geo, name, normals) for name in POSES}
     texels = Texels.of(texture_size)
     neutral, wrinkled = bake_normal_maps(texels)
-    textures = FaceTextures(paint_diffuse(texels), neutral, wrinkled)
+    textures = FaceTextures(paint_diffuse(texels), neutral, wrinkle_maps=wrinkled)
     mask_texels = texels if mask_size == texture_size else Texels.of(mask_size)
     return Project(
         name=NAME,

@@ -295,20 +295,25 @@ def _cheeks(x: Array, y: Array) -> Array:
     return 0.007 * h
 
 
-WRINKLE_GROUPS = (
-    # (painter, face box x0, x1, y0, y1)
-    (_forehead, -0.55, 0.55, 0.28, 0.72),
-    (_between_brows, -0.14, 0.14, 0.10, 0.36),
-    (_crows_feet, -0.62, 0.62, -0.10, 0.24),
-    (_under_eyes, -0.45, 0.45, -0.10, 0.09),
-    (_cheeks, -0.50, 0.50, -0.56, 0.02),
+BROW_MAP = "brow"  # forehead and frown lines: what raising or knitting the brows folds
+EYE_MAP = "eyes and cheeks"  # crow's feet, under the eyes, cheek lines: what a squint folds
+
+WRINKLE_GROUPS = (  # (painter, x0, x1, y0, y1, wrinkled map)
+    (_forehead, -0.55, 0.55, 0.28, 0.72, BROW_MAP),
+    (_between_brows, -0.14, 0.14, 0.10, 0.36, BROW_MAP),
+    (_crows_feet, -0.62, 0.62, -0.10, 0.24, EYE_MAP),
+    (_under_eyes, -0.45, 0.45, -0.10, 0.09, EYE_MAP),
+    (_cheeks, -0.50, 0.50, -0.56, 0.02, EYE_MAP),
 )
 
 
-def wrinkle_height(tx: Texels) -> Array:
-    """Height (model units) of every wrinkle the face can show; 0 away from them."""
+def wrinkle_height(tx: Texels, wrinkle_map: str | None = None) -> Array:
+    """Height (model units) of the wrinkles of one wrinkled map (None: all of them); 0 away
+    from them."""
     h = np.zeros((tx.size, tx.size), dtype=np.float32)
-    for painter, x0, x1, y0, y1 in WRINKLE_GROUPS:
+    for painter, x0, x1, y0, y1, group_map in WRINKLE_GROUPS:
+        if wrinkle_map not in (None, group_map):
+            continue
         rows, cols = tx.window(x0, x1, y0, y1)
         xs, ys = tx.x[rows, cols], tx.y[rows, cols]
         h[rows, cols] += painter(xs, ys) * tx.front[rows, cols]
@@ -324,13 +329,15 @@ def pore_height(size: int) -> Array:
     return PORE_DEPTH * blurred
 
 
-def bake_normal_maps(tx: Texels) -> tuple[Array, Array]:
-    """Neutral (pores only) and wrinkled (pores + wrinkles) normal maps."""
+def bake_normal_maps(tx: Texels) -> tuple[Array, dict[str, Array]]:
+    """Neutral (pores only) normal map, and one wrinkled (pores + its wrinkles) normal map per
+    wrinkled-map name: the sample shows off several maps (issue 10)."""
     du, dv = tx.texel_size(0.0, 0.3)
     strength = (WRINKLE_SLOPE / (2.0 * du), WRINKLE_SLOPE / (2.0 * dv))
     pores = pore_height(tx.size)
     neutral = height_to_normal(pores, strength)
-    wrinkled = height_to_normal(pores + wrinkle_height(tx), strength)
+    wrinkled = {name: height_to_normal(pores + wrinkle_height(tx, name), strength)
+                for name in (BROW_MAP, EYE_MAP)}
     return neutral, wrinkled
 
 

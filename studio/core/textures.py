@@ -116,3 +116,19 @@ def pack_normal_maps(neutral: Array, wrinkled: Array) -> Array:
 
     return np.ascontiguousarray(np.concatenate(
         [as_dtype(neutral)[..., :2], as_dtype(wrinkled)[..., :2]], axis=-1))
+
+
+def pack_more_maps(textures: FaceTextures, packed: Array) -> Array:
+    """(N, H, W, 2) x and y of the wrinkled maps after the first, at the size and bit depth of
+    ``packed`` (the neutral + first map texture); one flat layer when there are none."""
+    h, w = packed.shape[:2]
+    extra = list(textures.wrinkle_maps.values())[1:] or [flat_normal_map(1)]
+    layers = []
+    for image in extra:
+        image = resize_nearest(image, h, w) if image.shape[:2] != (h, w) else image
+        if packed.dtype == np.uint16 and image.dtype == np.uint8:
+            image = image.astype(np.uint16) * 257
+        elif packed.dtype == np.uint8 and image.dtype == np.uint16:
+            image = (image >> 8).astype(np.uint8)
+        layers.append(image[..., :2])
+    return np.ascontiguousarray(np.stack(layers))

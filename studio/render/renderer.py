@@ -18,7 +18,7 @@ from studio.core.geometry import DeformCache
 from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
-from studio.core.textures import FaceTextures, pack_normal_maps
+from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
 from studio.core.wdv import SLOTS, WdvSlots
 from studio.render.shaders import build_program
 
@@ -26,7 +26,7 @@ TECHNIQUES = ("flat", "none", "t1", "t2", "strain")
 VIEW_MODES = {"shaded": 0, "heat": 1, "normals": 2, "uv": 3}
 
 _UNIT = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
-         "t1_index": 5, "t1_slot_weight": 6}
+         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7}
 BLENDS = ("colour", "normal")
 T1_MODES = ("composed", "direct")
 
@@ -78,6 +78,8 @@ class FaceRenderer:
         self._textures: dict[str, moderngl.Texture] = {}
         self._masks: moderngl.TextureArray | None = None
         self._activations: moderngl.Texture | None = None
+        self._activation_values = np.zeros(1, np.float32)
+        self._area_maps = np.zeros(0, np.float32)  # wrinkled-map index of each technique-1 area
         self._t1_index: moderngl.Texture | None = None
         self._t1_slot_weight: moderngl.Texture | None = None
         self._t1_weight: moderngl.Texture | None = None
@@ -103,11 +105,13 @@ class FaceRenderer:
         self._dynamic = self.ctx.buffer(reserve=v * 10 * 4, dynamic=True)
         static = np.hstack([mesh.uvs, mesh.rest[mesh.weld]]).astype("f4")
         self._static = self.ctx.buffer(static.tobytes())
-        self._wdv = self.ctx.buffer(np.zeros((v, 4 * SLOTS + SLOTS), "f4").tobytes())
+        self._wdv = self.ctx.buffer(np.zeros((v, 4 * SLOTS + 2 * SLOTS), "f4").tobytes())
+        self._skin = self.ctx.buffer(np.ones(v, "f4").tobytes())
         self._strain_field = StrainField(mesh)
         self._strain = self.ctx.buffer(reserve=v * 4, dynamic=True)
         self._strain_key: tuple[int, float] | None = None  # (positions version, full_at)
-        self._buffers = [self._ibo, self._dynamic, self._static, self._wdv, self._strain]
+        self._buffers = [self._ibo, self._dynamic, self._static, self._wdv, self._strain,
+                         self._skin]
         self._positions = mesh.rest.copy()
         self._positions_version = 0
         self._geometry_dirty = True
@@ -118,27 +122,39 @@ class FaceRenderer:
         self._geometry_dirty = True
         self._positions_version += 1
 
+    def set_skin(self, skin: np.ndarray) -> None:
+        """(W,) per welded vertex: 1 where wrinkles may show, 0 on not-face vertices."""
+        self._skin.write(np.asarray(skin, "f4")[self.mesh.weld].tobytes())
+
     def set_textures(self, textures: FaceTextures) -> None:
-        """Diffuse map, and both normal maps packed into one texture (one fetch blends them)."""
+        """Diffuse map; the neutral and first wrinkled normal maps packed into one texture (one
+        fetch blends them); further wrinkled maps in an array read only where they show."""
         from studio.core.errors import RenderError
 
         max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE") or 0)
-        for name in ("diffuse", "normal_neutral", "normal_wrinkled"):
-            h, w = getattr(textures, name).shape[:2]
+        named = {"diffuse": textures.diffuse, "neutral normal": textures.normal_neutral,
+                 **{f"wrinkled normal ('{k}')": v for k, v in textures.wrinkle_maps.items()}}
+        for name, image in named.items():
+            h, w = image.shape[:2]
             if max_size and max(w, h) > max_size:
-                raise RenderError(f"the {name.replace('_', ' ')} map is {w}×{h} pixels, but this "
+                raise RenderError(f"the {name} map is {w}×{h} pixels, but this "
                                   f"GPU's largest texture is {max_size}×{max_size}; use a "
                                   "smaller map")
-        created: dict[str, moderngl.Texture] = {}
+        created: dict[str, moderngl.Texture | moderngl.TextureArray] = {}
         try:  # all new textures first: on failure the old ones still draw
-            images = {"diffuse": textures.diffuse,
-                      "normals": pack_normal_maps(textures.normal_neutral,
-                                                  textures.normal_wrinkled)}
+            normals = pack_normal_maps(textures.normal_neutral, textures.normal_wrinkled)
+            images = {"diffuse": textures.diffuse, "normals": normals,
+                      "more_maps": pack_more_maps(textures, normals)}
             self.ctx.error  # noqa: B018 - reading it clears an earlier, unrelated error flag
             for name, image in images.items():
-                h, w, components = image.shape
-                tex = self.ctx.texture((w, h), components, image.tobytes(),
-                                       dtype=_texture_dtype(image))
+                if image.ndim == 4:  # layers of a texture array
+                    n, h, w, components = image.shape
+                    tex = self.ctx.texture_array((w, h, n), components, image.tobytes(),
+                                                 dtype=_texture_dtype(image))
+                else:
+                    h, w, components = image.shape
+                    tex = self.ctx.texture((w, h), components, image.tobytes(),
+                                           dtype=_texture_dtype(image))
                 created[name] = tex
                 tex.build_mipmaps()
                 tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
@@ -198,6 +214,7 @@ class FaceRenderer:
             raise RenderError(f"the GPU cannot hold {n} influence masks of {w}×{h} pixels "
                               f"({exc or type(exc).__name__}); use fewer areas or smaller "
                               "masks") from None
+        self._activation_values = np.zeros(0, np.float32)
         self.set_activations(np.zeros(n, np.float32))
 
     def _set_sparse_masks(self, data: np.ndarray) -> None:
@@ -213,7 +230,7 @@ class FaceRenderer:
         self._t1_slot_weight = self.ctx.texture((w, h), 4, sparse.weights.tobytes(), dtype="f1")
         for tex in (self._t1_index, self._t1_slot_weight):
             tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self._t1_weight = self.ctx.texture((w, h), 1, dtype="f2")
+        self._t1_weight = self.ctx.texture((w, h), 4, dtype="f2")  # one weight per wrinkled map
         self._t1_weight.filter = (moderngl.LINEAR, moderngl.LINEAR)
         self._t1_weight.repeat_x = self._t1_weight.repeat_y = False
         self._t1_fbo = self.ctx.framebuffer(color_attachments=[self._t1_weight])
@@ -245,14 +262,31 @@ class FaceRenderer:
         self._t1_dirty = True
 
     def set_activations(self, activations: np.ndarray) -> None:
+        """Technique 1's activation vector; nothing is uploaded or recomposed if unchanged."""
         values = np.zeros(max(self._area_count, 1), np.float32)
         values[: len(activations)] = activations
+        if np.array_equal(values, self._activation_values):
+            return
+        self._activation_values = values
+        self._upload_activations()
+
+    def set_area_maps(self, maps: np.ndarray) -> None:
+        """Which wrinkled map (index) each technique-1 area reveals, in area order."""
+        self._area_maps = np.asarray(maps, np.float32)
+        self._upload_activations()
+
+    def _upload_activations(self) -> None:
+        values = self._activation_values
+        texels = np.zeros((len(values), 2), np.float32)
+        texels[:, 0] = values
+        n = min(len(values), len(self._area_maps))
+        texels[:n, 1] = self._area_maps[:n]
         if self._activations is None or self._activations.width != len(values):
             if self._activations is not None:
                 self._activations.release()
-            self._activations = self.ctx.texture((len(values), 1), 1, dtype="f4")
+            self._activations = self.ctx.texture((len(values), 1), 2, dtype="f4")
             self._activations.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        self._activations.write(values.tobytes())
+        self._activations.write(texels.tobytes())
         self._t1_dirty = True
         self._t1_dirty_rect = None
 
@@ -261,7 +295,7 @@ class FaceRenderer:
         """Technique 2 slots per welded vertex (see ``WdvSetup.pack_slots``)."""
         weld = self.mesh.weld
         packed = np.hstack([slots.dirs.reshape(len(slots.dirs), -1)[weld],
-                            slots.cones[weld]]).astype("f4")
+                            slots.cones[weld], slots.maps[weld]]).astype("f4")
         self._wdv.write(packed.tobytes())
         self.expression_factor = float(expression_factor)
         self.scale_free = bool(scale_free)
@@ -357,7 +391,8 @@ class FaceRenderer:
             content = [
                 (self._dynamic, "3f 3f 4f", "in_position", "in_normal", "in_tangent"),
                 (self._static, "2f 3f", "in_uv", "in_rest"),
-                (self._wdv, "16f 4f", "in_wdv", "in_cone"),
+                (self._skin, "1f", "in_skin"),
+                (self._wdv, "16f 4f 4f", "in_wdv", "in_cone", "in_slot_map"),
                 (self._strain, "1f", "in_strain"),
             ]
             self._vaos[key] = self.ctx.vertex_array(

@@ -17,7 +17,7 @@ class ProjectScene:
         self.renderer = renderer
         self.project = project
         self.weights: dict[str, float] = {}
-        self.reload_textures()
+        renderer.set_textures(project.textures)  # (the old mesh may still be loaded here)
         self.reload_masks()
         self.reload_mesh()
 
@@ -26,15 +26,25 @@ class ProjectScene:
         project = self.project
         self.blender = PoseBlender(project.mesh.rest, project.poses)
         self.renderer.set_mesh(project.mesh)
+        self.renderer.set_skin(project.skin_weights())
         self.reload_wdv()
         self.set_pose_weights(self.weights)
 
     def reload_textures(self) -> None:
+        """New maps; areas name their wrinkled map, so their map indices may have moved too."""
         self.renderer.set_textures(self.project.textures)
+        self.reload_area_maps()
+        self.reload_wdv()
 
     def reload_masks(self) -> None:
         self.renderer.set_masks(self.project.influence.mask_stack())
+        self.reload_area_maps()
         self.reload_activations()
+
+    def reload_area_maps(self) -> None:
+        """After areas were added, removed, reordered or pointed at another wrinkled map."""
+        index = self.project.textures.map_index
+        self.renderer.set_area_maps([index(a.wrinkle_map) for a in self.project.influence.areas])
 
     def reload_activations(self) -> None:
         self.renderer.set_activations(self.project.influence.activations(self.weights))

@@ -3,6 +3,8 @@
 Left-button gestures: a click picks the vertex under the cursor (an exact ray cast against the
 posed face), a drag draws a box or a lasso, or paints with a brush of adjustable radius. Shift
 adds to the selection, Ctrl removes from it; otherwise the gesture replaces it (the brush adds).
+The "cone" mode is the same brush painting the current area's per-vertex cone angle instead
+(Ctrl paints it back to the area's own angle).
 Navigation keeps Alt+left and the middle button. The work per gesture is a few vectorised numpy
 passes over the projected vertices, computed once when the gesture starts.
 """
@@ -18,13 +20,14 @@ from PySide6.QtGui import QMouseEvent
 from studio.core import selection as sel
 from studio.core.picking import nearest_corner, ray_triangles
 from studio.widgets.commands import new_gesture
-from studio.widgets.wdv_edits import set_selection
+from studio.widgets.wdv_edits import set_cone_angles, set_selection
 
 if TYPE_CHECKING:
     from studio.widgets.viewport import Viewport
     from studio.widgets.wdv_tools import WdvTools
 
-MODES = ("click", "box", "lasso", "brush")
+MODES = ("click", "box", "lasso", "brush", "cone")
+BRUSHES = ("brush", "cone")  # modes that paint under a circle while dragging
 CLICK_PIXELS = 4  # a press and release closer than this is a click, not a drag
 CLICK_RADIUS = 12  # with "select through", a click takes the nearest vertex this close
 
@@ -70,10 +73,10 @@ class SelectTool:
                                                "turn the side-by-side split off", 5000)
             return
         self._start = event.position()
-        self._op = gesture_mode(event.modifiers(), brush=self.mode == "brush")
+        self._op = gesture_mode(event.modifiers(), brush=self.mode in BRUSHES)
         self._path = [self._pixel(viewport, event)]
         self._view = self.tools.screen_view()
-        if self.mode == "brush":
+        if self.mode in BRUSHES:
             self._gesture = new_gesture()
             self._brush(viewport, event)
         event.accept()
@@ -82,11 +85,11 @@ class SelectTool:
         x, y = self._pixel(viewport, event)
         overlay = self.tools.overlay
         if self._start is None:  # hovering: show the brush where it would paint
-            if self.mode == "brush":
+            if self.mode in BRUSHES:
                 overlay.set_outline(circle(x, y, self.brush_radius), closed=True)
                 viewport.update()
             return
-        if self.mode == "brush":
+        if self.mode in BRUSHES:
             self._path.append((x, y))
             self._brush(viewport, event)
             overlay.set_outline(circle(x, y, self.brush_radius), closed=True)
@@ -105,7 +108,7 @@ class SelectTool:
         moved = (event.position() - self._start).manhattanLength()
         view = self._view
         through = self.tools.select_through
-        if self.mode == "brush":
+        if self.mode in BRUSHES:
             pass  # every dab was applied while moving
         elif moved < CLICK_PIXELS or self.mode == "click":
             self._click(viewport, x, y)
@@ -118,7 +121,7 @@ class SelectTool:
                         "Box select")
         self._start, self._view, self._gesture = None, None, None
         self.tools.overlay.set_outline(
-            circle(x, y, self.brush_radius) if self.mode == "brush" else None, closed=True)
+            circle(x, y, self.brush_radius) if self.mode in BRUSHES else None, closed=True)
         viewport.update()
 
     def _brush(self, viewport: Viewport, event: QMouseEvent) -> None:
@@ -126,6 +129,12 @@ class SelectTool:
         view = self._view
         hits = view.select(sel.in_circle(view.pixels, (x, y), self.brush_radius),
                            self.tools.select_through)
+        if self.mode == "cone":
+            area = self.tools.current_area
+            if area is not None:
+                value = 0.0 if self._op == sel.REMOVE else self.tools.cone_paint_value
+                set_cone_angles(self.tools.doc, area, hits, value, self._gesture)
+            return
         self._apply(hits, "Brush select", self._gesture)
 
     def _click(self, viewport: Viewport, x: float, y: float) -> None:

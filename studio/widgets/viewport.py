@@ -89,7 +89,7 @@ class Viewport(QOpenGLWidget):
         d.texturesChanged.connect(lambda: self._invalidate("textures"))
         d.poseWeightsChanged.connect(lambda: self._invalidate("pose"))
         d.activationsChanged.connect(lambda: self._invalidate("activations"))
-        d.areasChanged.connect(lambda: self._invalidate("activations"))
+        d.areasChanged.connect(lambda: self._invalidate("areas"))
         d.masksChanged.connect(lambda: self._invalidate("masks"))
         d.maskRegionChanged.connect(self._mask_region_changed)
         d.wdvChanged.connect(lambda: self._invalidate("wdv"))
@@ -134,9 +134,11 @@ class Viewport(QOpenGLWidget):
         for layer, x, y, w, h in self._mask_regions:
             self.renderer.update_mask_region(layer, x, y, masks[layer].mask[y:y + h, x:x + w])
         self._mask_regions.clear()
+        if "areas" in pending:
+            scene.reload_area_maps()
         if "pose" in pending:
             scene.set_pose_weights(self.doc.pose_weights)
-        elif "activations" in pending:
+        elif pending & {"activations", "areas"}:
             scene.reload_activations()
         if "wdv" in pending:
             scene.reload_wdv()

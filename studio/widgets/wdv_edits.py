@@ -182,6 +182,31 @@ def set_area_value(doc: Document, area: WdvArea, attr: str, value, label: str,
                                      apply, value, key))
 
 
+def set_cone_angles(doc: Document, area: WdvArea, hits: np.ndarray | None, value: float,
+                    gesture: Hashable | None = None) -> None:
+    """Paint the cone angle (degrees; 0 = the area's own) of the ``hits`` vertices, or clear
+    every painted angle (``hits`` None). A brush stroke (one gesture) is one undo step; each
+    step keeps the area's whole angle array before and after (W floats, arrays never mutated)."""
+    old = area.cone_angles_deg
+    if hits is None:
+        new = None
+    else:
+        new = np.zeros(len(area.lengths), np.float32) if old is None else old.copy()
+        new[hits] = value
+    if (new is None and old is None) or (
+            new is not None and old is not None and np.array_equal(new, old)):
+        return
+
+    def apply(v: np.ndarray | None) -> None:
+        area.cone_angles_deg = v
+        doc.wdvChanged.emit()
+
+    text = (f"Clear painted cone angles of {area.name}" if hits is None
+            else f"Paint cone angles of {area.name}")
+    key = None if gesture is None else ("wdv-cones", id(area), gesture)
+    doc.undo_stack.push(ValueCommand(text, lambda: area.cone_angles_deg, apply, new, key))
+
+
 def set_enabled_all(doc: Document, enabled: tuple[bool, ...], text: str) -> None:
     """Solo / mute: the enabled flag of every area at once."""
     areas = list(doc.project.wdv.areas)

@@ -58,6 +58,7 @@ class WdvPanel(QScrollArea):
         doc.wdvChanged.connect(self._refresh)
         doc.projectReplaced.connect(self._refresh)
         doc.posesChanged.connect(self._refresh)
+        doc.texturesChanged.connect(self._refresh)
         doc.selectionChanged.connect(self._show_selection)
         doc.viewChanged.connect(self._show_view)
         tools.currentAreaChanged.connect(self._refresh)
@@ -101,15 +102,39 @@ class WdvPanel(QScrollArea):
                              "shows no wrinkles")
         self.cone.edited.connect(self._cone_edited)
         form.addRow("Cone angle", self.cone)
+        painted = QHBoxLayout()
+        self.cone_paint = QDoubleSpinBox()
+        self.cone_paint.setRange(0.5, 90.0)
+        self.cone_paint.setDecimals(1)
+        self.cone_paint.setSuffix("°")
+        self.cone_paint.setValue(self.tools.cone_paint_value)
+        self.cone_paint.setToolTip("The cone angle the cone brush paints")
+        self.cone_paint.valueChanged.connect(
+            lambda v: setattr(self.tools, "cone_paint_value", float(v)))
+        self.cone_brush_button = QToolButton()
+        self.cone_brush_button.setText("Paint")
+        self.cone_brush_button.setCheckable(True)
+        self.cone_brush_button.setToolTip("Paint a per-vertex cone angle on the face with the "
+                                          "brush (Ctrl paints back the area's angle)")
+        self.cone_brush_button.clicked.connect(lambda: self._set_mode("cone"))
+        self.cone_selected_button = self._tool_button(
+            "Selected", "Give the selected vertices this cone angle", self._cones_to_selection)
+        self.cone_clear_button = self._tool_button(
+            "Clear", "Remove the painted angles: every vertex uses the area's angle",
+            self._clear_cones)
+        for w in (self.cone_paint, self.cone_brush_button, self.cone_selected_button,
+                  self.cone_clear_button):
+            painted.addWidget(w)
+        form.addRow("Painted θ", painted)
         self.colour_button = QPushButton()
         self.colour_button.setToolTip("The colour the area's vertices and vectors are drawn in")
         self.colour_button.clicked.connect(self._choose_colour)
         form.addRow("Colour", self.colour_button)
-        self.map_label = QLabel("Project wrinkled normal map")
-        self.map_label.setWordWrap(True)
-        self.map_label.setToolTip("One wrinkled normal map per project for now; a map per area "
-                                  "is planned (issue 10)")
-        form.addRow("Wrinkle map", self.map_label)
+        self.map_combo = QComboBox()
+        self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
+                                  "more)")
+        self.map_combo.activated.connect(self._map_chosen)
+        form.addRow("Wrinkle map", self.map_combo)
         a_layout.addLayout(form)
         layout.addWidget(areas)
 
@@ -133,6 +158,8 @@ class WdvPanel(QScrollArea):
             self.mode_group.addButton(b)
             self.mode_buttons[mode] = b
             modes.addWidget(b)
+        self.mode_group.addButton(self.cone_brush_button)
+        self.mode_buttons["cone"] = self.cone_brush_button
         self.mode_buttons[self.tools.tool.mode].setChecked(True)
         s_layout.addLayout(modes)
         options = QHBoxLayout()
@@ -252,22 +279,30 @@ class WdvPanel(QScrollArea):
                 item.setCheckState(Qt.CheckState.Checked if area.enabled
                                    else Qt.CheckState.Unchecked)
                 n = int(area.authored.sum())
+                painted = (0 if area.cone_angles_deg is None
+                           else int((area.cone_angles_deg > 0).sum()))
                 item.setToolTip(f"{area.name}: pose “{area.pose}”, {n} vectors, cone "
-                                f"{area.cone_angle_deg:g}°. Double-click to rename; the check "
-                                "box mutes it")
+                                f"{area.cone_angle_deg:g}° ({painted} vertices painted). "
+                                "Double-click to rename; the check box mutes it")
             if current is not None:
                 self.area_list.setCurrentRow(areas.index(current))
             self.pose_combo.clear()
             for name in self.doc.project.pose_names:
                 if name != NEUTRAL:
                     self.pose_combo.addItem(name, name)
+            self.map_combo.clear()
+            for name in self.doc.project.textures.wrinkle_map_names:
+                self.map_combo.addItem(name, name)
             has = current is not None
             for w in (self.delete_button, self.up_button, self.down_button, self.solo_button,
                       self.pose_combo, self.cone, self.colour_button, self.create_button,
-                      self.clear_button, self.suggest_button):
+                      self.clear_button, self.suggest_button, self.map_combo,
+                      self.cone_brush_button, self.cone_selected_button, self.cone_clear_button):
                 w.setEnabled(has)
             if has:
                 self.pose_combo.setCurrentIndex(self.pose_combo.findData(current.pose))
+                textures = self.doc.project.textures
+                self.map_combo.setCurrentIndex(textures.map_index(current.wrinkle_map))
                 self.cone.set_value(current.cone_angle_deg)
                 self.colour_button.setIcon(swatch(current.colour, 16))
                 self.colour_button.setText(" #{:02x}{:02x}{:02x}".format(*current.colour))
@@ -355,6 +390,23 @@ class WdvPanel(QScrollArea):
         area = self._area()
         if area is not None and index >= 0:
             edits.set_area_value(self.doc, area, "pose", self.pose_combo.itemData(index), "Pose")
+
+    def _map_chosen(self, index: int) -> None:
+        area = self._area()
+        if area is not None and index >= 0:
+            edits.set_area_value(self.doc, area, "wrinkle_map", self.map_combo.itemData(index),
+                                 "Wrinkled map")
+
+    def _cones_to_selection(self) -> None:
+        area = self._area()
+        if area is not None and self.doc.selection.any():
+            edits.set_cone_angles(self.doc, area, self.doc.selection.copy(),
+                                  self.tools.cone_paint_value)
+
+    def _clear_cones(self) -> None:
+        area = self._area()
+        if area is not None:
+            edits.set_cone_angles(self.doc, area, None, 0.0)
 
     def _cone_edited(self, value: float, gesture) -> None:
         area = self._area()

@@ -34,6 +34,7 @@ class WdvTools(QObject):
         self.overlay = WdvOverlay()
         self.tool = SelectTool(self)
         self.select_through = False
+        self.cone_paint_value = 8.0  # degrees the cone brush paints (Ctrl paints "area's angle")
         self._current: WdvArea | None = None
         self._posed: np.ndarray | None = None
         self._normals: np.ndarray | None = None
