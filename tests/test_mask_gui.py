@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import os
 import time
 
@@ -16,6 +17,17 @@ from studio.core.sample import landmark_uvs
 from studio.widgets.mask_edits import PaintSession, set_resolution
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
+
+
+@pytest.fixture(autouse=True)
+def default_brush():
+    """Each test starts with the default brush: the brush is remembered between sessions, so
+    one test's size or mirror mode must not leak into the next."""
+    from studio.widgets.main_window import settings
+
+    settings().remove("brush")
+    yield
+    settings().remove("brush")
 
 
 def uv_pixel(window, name: str) -> tuple[float, float]:
@@ -415,3 +427,206 @@ def test_tablet_pressure_scales_the_dab(qtbot, sample):
     assert area.mask.max() == pytest.approx(0.3)  # flow 1 × pressure 0.3
     assert doc.undo_stack.count() == 1
     doc.undo_stack.cleanChanged.disconnect()
+
+
+# --- the brush cursor in the viewport and mirror painting ----------------------------------------
+
+def widget_point(window, pixel: tuple[float, float]) -> QPoint:
+    ratio = window.viewport.devicePixelRatioF()
+    return QPoint(round(pixel[0] / ratio), round(pixel[1] / ratio))
+
+
+def hover(qtbot, widget, pos: QPoint) -> None:
+    """Move the mouse to ``pos`` (by way of a neighbouring pixel: Qt drops a move to where the
+    pointer already is, e.g. the same spot in the previous test's window)."""
+    qtbot.mouseMove(widget, pos + QPoint(2, 1))
+    qtbot.mouseMove(widget, pos)
+
+
+def grab_viewport(window) -> np.ndarray:
+    """What the user sees in the viewport: the face and whatever is drawn over it."""
+    from tests.gui_helpers import qimage_to_array
+
+    return qimage_to_array(window.viewport.grab().toImage())
+
+
+def test_the_brush_cursor_follows_the_mouse_on_the_face_without_redrawing_it(window, qtbot):
+    tools = window.mask_tools
+    vp = window.viewport
+    window.viewport.setFocus()
+    qtbot.keyClick(window, Qt.Key.Key_B)
+    marks = viewport_marks(window)
+    vp.repaint()  # the frame the tool change asked for
+    hover(qtbot, vp, QPoint(3, 3))  # the corner: background, no face
+    plain = grab_viewport(window)
+    frames = vp.frames_rendered
+    cheek = widget_point(window, marks["cheek left"])
+    for dx in (-6, -3, 0):
+        qtbot.mouseMove(vp, cheek + QPoint(dx, 0))
+    qtbot.wait(50)  # let any repaint the moves asked for happen
+    assert vp.frames_rendered == frames  # the face was not re-rendered for the cursor
+    rings = tools.tool.cursor.rings
+    assert len(rings) == 1 and not rings[0].mirrored
+    centre = rings[0].outer.mean(axis=0)
+    assert np.hypot(*(centre - [cheek.x(), cheek.y()])) < 3  # around the mouse
+    shown = grab_viewport(window)
+    ratio = vp.devicePixelRatioF()
+    x, y = np.rint(rings[0].outer[0] * ratio).astype(int)  # a point on the ring's edge
+    edge = np.abs(shown[y - 2:y + 3, x - 2:x + 3].astype(int)
+                  - plain[y - 2:y + 3, x - 2:x + 3].astype(int))
+    assert edge.max() > 60  # the ring is drawn there
+    far = widget_point(window, marks["chin"])
+    assert np.array_equal(shown[far.y() - 5:far.y() + 5, far.x() - 5:far.x() + 5],
+                          plain[far.y() - 5:far.y() + 5, far.x() - 5:far.x() + 5])
+
+    # the cursor shows the brush's size: twice the radius, twice the ring
+    width = np.ptp(rings[0].outer, axis=0).max()
+    tools.panel.radius.setValue(round(2 * tools.state.brush.radius))
+    wider = np.ptp(tools.tool.cursor.rings[0].outer, axis=0).max()
+    assert wider == pytest.approx(2 * width, rel=0.05)
+
+    qtbot.mouseMove(vp, QPoint(3, 3))  # off the face: hidden
+    assert tools.tool.cursor.rings == []
+    assert np.array_equal(grab_viewport(window), plain)
+    hover(qtbot, vp, cheek)
+    qtbot.keyClick(window, Qt.Key.Key_B)  # leaving the tool hides it too
+    assert tools.tool.cursor.rings == []
+
+
+def open_active(open_window, qtbot, project):
+    """A window that has the keyboard focus (shortcuts need it), like one the user clicked."""
+    window = open_window(project)
+    qtbot.waitUntil(window.isActiveWindow)
+    return window
+
+
+def warped_sample(sample):
+    """The sample face with an asymmetric UV layout (u → u^1.25): the mesh is still symmetric,
+    its UVs no longer are, so only a mirror through the mesh finds the other cheek."""
+    from studio.core.mesh import FaceMesh
+
+    mesh = sample.mesh
+    uvs = mesh.uvs.copy()
+    uvs[:, 0] = uvs[:, 0] ** 1.25
+    sample.mesh = FaceMesh(mesh.rest, mesh.triangles, uvs, mesh.weld)
+    return sample
+
+
+def warped_pixel(window, name: str) -> tuple[float, float]:
+    h, w = window.doc.project.influence.resolution
+    u, v = landmark_uvs()[name]
+    return float(u ** 1.25 * w), float((1.0 - v) * h)
+
+
+def neutral_marks(window) -> dict[str, tuple[int, int]]:
+    """The landmarks' pixels, found on the sample's own UV layout (the geometry is the same)."""
+    from studio.core.sample import make_sample
+    from tests.regions import landmark_pixels
+
+    w, h = window.viewport.pixel_size()
+    return landmark_pixels(make_sample(), window.doc.camera, w, h)
+
+
+def choose_mirror(window, mode: str) -> None:
+    combo = window.mask_tools.panel.mirror
+    combo.setCurrentIndex(combo.findData(mode))
+    assert window.mask_tools.state.mirror == mode
+
+
+def painted_near(mask: np.ndarray, x: float, y: float, r: int = 3) -> float:
+    return float(mask[int(y) - r:int(y) + r + 1, int(x) - r:int(x) + r + 1].max())
+
+
+def test_a_click_with_mirror_through_the_mesh_paints_both_cheeks_in_one_step(
+        open_window, sample, qtbot):
+    window = open_active(open_window, qtbot, warped_sample(sample))
+    tools = window.mask_tools
+    index = add_area_by_click(window, qtbot)
+    area = window.doc.project.influence.areas[index]
+    choose_mirror(window, "mesh")
+    window.viewport.setFocus()
+    qtbot.keyClick(window, Qt.Key.Key_B)
+    marks = neutral_marks(window)
+    cheek = widget_point(window, marks["cheek left"])
+    hover(qtbot, window.viewport, cheek)
+    rings = tools.tool.cursor.rings
+    assert [r.mirrored for r in rings] == [False, True]  # the mirror's ring on the right cheek
+    right = widget_point(window, marks["cheek right"])
+    assert np.hypot(*(rings[1].outer.mean(axis=0) - [right.x(), right.y()])) < 4
+    steps = window.doc.undo_stack.count()
+    qtbot.mouseClick(window.viewport, Qt.MouseButton.LeftButton, pos=cheek)
+
+    mask = area.mask
+    assert painted_near(mask, *warped_pixel(window, "cheek left")) > 0.3
+    assert painted_near(mask, *warped_pixel(window, "cheek right")) > 0.3  # the mirror image
+    w = mask.shape[1]
+    x, y = warped_pixel(window, "cheek left")
+    assert painted_near(mask, w - x, y) == 0.0  # not where u → 1 − u would have put it
+    assert window.doc.undo_stack.count() == steps + 1
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert mask.max() == 0.0  # one undo removed both dabs
+
+
+def test_a_dab_on_the_uv_canvas_is_mirrored_through_the_mesh(open_window, sample, qtbot):
+    window = open_active(open_window, qtbot, warped_sample(sample))
+    tools = window.mask_tools
+    window.docks["UV Paint"].show()
+    index = add_area_by_click(window, qtbot)
+    area = window.doc.project.influence.areas[index]
+    choose_mirror(window, "mesh")
+    view = tools.canvas.view.viewport()
+    x, y = warped_pixel(window, "forehead right")
+    hover(qtbot, view, canvas_point(window, x, y))
+    mirror_cursor = tools.canvas.mirror_cursor
+    mx, my = warped_pixel(window, "forehead left")
+    assert mirror_cursor.isVisible()
+    assert np.hypot(mirror_cursor.rect().center().x() - mx,
+                    mirror_cursor.rect().center().y() - my) < 4
+    qtbot.mouseClick(view, Qt.MouseButton.LeftButton, pos=canvas_point(window, x, y))
+    assert painted_near(area.mask, x, y) > 0.3
+    assert painted_near(area.mask, mx, my) > 0.3
+    assert painted_near(area.mask, area.mask.shape[1] - x, y) == 0.0
+    window.doc.undo_stack.undo()
+    assert area.mask.max() == 0.0
+    choose_mirror(window, "uv")  # the UV mirror: u → 1 − u, wherever the surface is
+    qtbot.mouseClick(view, Qt.MouseButton.LeftButton, pos=canvas_point(window, x, y))
+    assert painted_near(area.mask, area.mask.shape[1] - x, y) > 0.3
+    assert painted_near(area.mask, mx, my) == 0.0
+
+
+def test_the_mirror_mode_and_brush_are_remembered_for_the_next_window(open_window, sample):
+    first = open_window(copy.deepcopy(sample))
+    panel = first.mask_tools.panel
+    choose_mirror(first, "mesh")
+    panel.radius.setValue(37)
+    panel.hardness.setValue(0.8)
+    second = open_window(sample)
+    state = second.mask_tools.state
+    assert state.mirror == "mesh" and state.brush.radius == 37.0
+    assert state.brush.hardness == pytest.approx(0.8)
+    combo = second.mask_tools.panel.mirror
+    assert combo.currentData() == "mesh" and "mesh" in combo.currentText()
+    assert second.mask_tools.panel.radius.value() == 37
+
+
+def test_an_area_chooses_the_wrinkled_map_it_reveals(window, qtbot):
+    """Pointing the left eye-corner area at the brow map hides its crow's feet (that map has
+    none there); one undo brings them back."""
+    doc, panel = window.doc, window.mask_tools.panel
+    areas = doc.project.influence.areas
+    index = [a.name for a in areas].index("eye corner left")
+    doc.set_view(technique="t1")
+    doc.set_area_activation(index, 1.0)
+    panel.select(index)
+    marks = viewport_marks(window)
+    shown = viewport_image(window)
+    combo = panel.map_combo
+    brow = doc.project.textures.wrinkle_map_names[0]
+    combo.setCurrentIndex(combo.findData(brow))
+    combo.activated.emit(combo.currentIndex())
+    qtbot.waitUntil(lambda: areas[index].wrinkle_map == brow)
+    hidden = viewport_image(window)
+    doc.undo_stack.undo()
+    assert areas[index].wrinkle_map != brow
+    assert region_difference(shown, hidden, marks["eye corner left"]) > 4.0
+    assert np.array_equal(viewport_image(window), shown)

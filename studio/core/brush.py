@@ -12,7 +12,8 @@ Coordinates are mask pixels: x right, y down (row 0 = top = v 1); pixel (i, j) c
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Protocol
 
 import numpy as np
 
@@ -134,37 +135,64 @@ def tile_changes(before: Array, after: Array, tile: int = TILE
     return out
 
 
-class Stroke:
-    """A drag of the brush: dabs spaced along the path, optionally mirrored across u = 0.5."""
+class Mirror(Protocol):
+    """Where a stroke's dabs are mirrored to: dab centres (N, 2) in mask pixels → (index of the
+    source dab, mirrored centre, radius scale) per mirror image; a dab may have none or several
+    (one per UV chart at a seam). Mirrors: ``UvMirror``, studio.core.surface_mirror's
+    ``SurfaceMirror``."""
 
-    def __init__(self, mask: Array, brush: Brush, mirror: bool = False) -> None:
+    def __call__(self, points: Array, shape: tuple[int, int], radius: float
+                 ) -> tuple[Array, Array, Array]: ...
+
+
+class UvMirror:
+    """u → 1 − u: the face's mirror when its UV layout is symmetric about u = 0.5."""
+
+    def __call__(self, points: Array, shape: tuple[int, int], radius: float
+                 ) -> tuple[Array, Array, Array]:
+        pts = np.asarray(points, np.float64).reshape(-1, 2)
+        return np.arange(len(pts)), np.c_[shape[1] - pts[:, 0], pts[:, 1]], np.ones(len(pts))
+
+
+class Stroke:
+    """A drag of the brush: dabs spaced along the path, each also at its mirror images when the
+    stroke has a mirror (``True``: u → 1 − u)."""
+
+    def __init__(self, mask: Array, brush: Brush, mirror: bool | Mirror | None = False) -> None:
         self.mask = mask
         self.brush = brush
-        self.mirror = mirror
+        self.mirror: Mirror | None = UvMirror() if mirror is True else (mirror or None)
         self.backup = TileBackup(mask)
         self.last: tuple[float, float, float] | None = None
         self.dabs = 0
         self._carry = 0.0  # path length since the last dab
 
-    def _dab(self, x: float, y: float, pressure: float) -> Rect | None:
-        points = [(x, y)]
-        if self.mirror:
-            points.append((self.mask.shape[1] - x, y))
+    def _dabs(self, points: Array, pressures: Array) -> Rect | None:
+        """Stamp dabs at points (N, 2) and their mirror images (all mirrored in one call)."""
+        radii = np.full(len(points), self.brush.radius)
+        if self.mirror is not None and len(points):
+            owner, mirrored, scale = self.mirror(points, self.mask.shape, self.brush.radius)
+            points = np.concatenate([points, mirrored])
+            pressures = np.concatenate([pressures, pressures[owner]])
+            radii = np.concatenate([radii, self.brush.radius * scale])
         touched = None
-        for px, py in points:
-            rect = dab_rect(self.mask.shape, px, py, self.brush.radius)
+        for (x, y), pressure, radius in zip(points.tolist(), pressures.tolist(), radii.tolist(),
+                                            strict=True):
+            rect = dab_rect(self.mask.shape, x, y, radius)
             if rect is None:
                 continue
+            brush = self.brush if radius == self.brush.radius else replace(self.brush,
+                                                                            radius=radius)
             self.backup.touch(rect)
-            touched = union(touched, stamp(self.mask, px, py, self.brush, pressure))
-        self.dabs += 1
+            touched = union(touched, stamp(self.mask, x, y, brush, pressure))
         return touched
 
     def jump(self, x: float, y: float, pressure: float = 1.0) -> Rect | None:
         """Start (or restart, after crossing a UV seam) at a point: one dab there."""
         self.last = (x, y, pressure)
         self._carry = 0.0
-        return self._dab(x, y, pressure)
+        self.dabs += 1
+        return self._dabs(np.array([[x, y]], np.float64), np.array([pressure], np.float64))
 
     def to(self, x: float, y: float, pressure: float = 1.0) -> Rect | None:
         """Continue to a point, laying dabs every ``spacing·radius`` along the way."""
@@ -173,13 +201,13 @@ class Stroke:
         x0, y0, p0 = self.last
         step = max(self.brush.spacing * self.brush.radius, 0.5)
         length = math.hypot(x - x0, y - y0)
-        touched = None
-        s = step - self._carry
-        while s <= length:
-            f = s / length
-            touched = union(touched, self._dab(x0 + (x - x0) * f, y0 + (y - y0) * f,
-                                               p0 + (pressure - p0) * f))
-            s += step
-        self._carry = length - (s - step)
+        first = step - self._carry
         self.last = (x, y, pressure)
-        return touched
+        if first > length:
+            self._carry += length
+            return None
+        s = first + step * np.arange(int((length - first) // step) + 1)
+        self._carry = length - float(s[-1])
+        f = s / length if length > 0.0 else np.zeros_like(s)
+        self.dabs += len(s)
+        return self._dabs(np.c_[x0 + (x - x0) * f, y0 + (y - y0) * f], p0 + (pressure - p0) * f)

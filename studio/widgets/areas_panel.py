@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QObject, Qt, Signal
+from PySide6.QtCore import QObject, QSettings, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QIcon, QPixmap
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -38,13 +38,23 @@ from PySide6.QtWidgets import (
 )
 
 from studio.core import mask_ops
-from studio.core.brush import Brush
+from studio.core.brush import Brush, Mirror, UvMirror
 from studio.core.errors import StudioError
+from studio.core.mesh import FaceMesh
+from studio.core.surface_mirror import SurfaceMirror
 from studio.widgets import mask_edits
 from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga *.webp)"
+MIRROR_MODES = {
+    "off": ("Off", "Dabs land only under the brush"),
+    "uv": ("In UV (u → 1 − u)", "Every dab also lands mirrored across the UV square's middle: "
+           "right when the UV layout is itself symmetric"),
+    "mesh": ("Through the mesh (x → −x)", "Every dab also lands at the mirrored point of the "
+             "face's surface (across x = 0), whatever the UV layout"),
+}
+BRUSH_SETTINGS = ("radius", "hardness", "opacity", "flow")  # remembered between sessions
 
 
 class PaintState(QObject):
@@ -57,8 +67,9 @@ class PaintState(QObject):
         super().__init__(parent)
         self.brush = Brush()
         self.active = -1
-        self.mirror = False
+        self.mirror = "off"  # a key of MIRROR_MODES
         self.overlap = False
+        self._surface: SurfaceMirror | None = None
 
     def set_brush(self, **values) -> None:
         for key, value in values.items():
@@ -80,6 +91,45 @@ class PaintState(QObject):
         for key, value in values.items():
             setattr(self, key, value)
         self.changed.emit()
+
+    def set_mirror(self, mode: str) -> None:
+        if mode not in MIRROR_MODES:
+            raise ValueError(f"unknown mirror mode {mode!r}")
+        self.set_option(mirror=mode)
+
+    # --- mirrors -------------------------------------------------------------------------------
+    def surface_mirror(self, mesh: FaceMesh) -> SurfaceMirror:
+        """The mirror through this mesh, built once per mesh (its lookups are precomputed)."""
+        if self._surface is None or self._surface.mesh is not mesh:
+            self._surface = SurfaceMirror(mesh)
+        return self._surface
+
+    def stroke_mirror(self, mesh: FaceMesh) -> Mirror | None:
+        """What a new stroke mirrors its dabs with, in the current mode."""
+        if self.mirror == "uv":
+            return UvMirror()
+        if self.mirror == "mesh":
+            return self.surface_mirror(mesh)
+        return None
+
+    # --- remembered between sessions -----------------------------------------------------------
+    def restore(self, settings: QSettings) -> None:
+        """The brush as the user last left it; unreadable values keep the defaults."""
+        for key in BRUSH_SETTINGS:
+            try:
+                value = float(settings.value(f"brush/{key}", getattr(self.brush, key)))
+            except (TypeError, ValueError):
+                continue
+            lo, hi = (1.0, 1000.0) if key == "radius" else (0.0, 1.0)
+            setattr(self.brush, key, min(max(value, lo), hi))
+        mode = str(settings.value("brush/mirror", self.mirror))
+        self.mirror = mode if mode in MIRROR_MODES else self.mirror
+        self.changed.emit()
+
+    def save(self, settings: QSettings) -> None:
+        for key in BRUSH_SETTINGS:
+            settings.setValue(f"brush/{key}", float(getattr(self.brush, key)))
+        settings.setValue("brush/mirror", self.mirror)
 
 
 def swatch(colour: tuple[int, int, int], size: int = 14) -> QIcon:
@@ -174,6 +224,7 @@ class AreasPanel(QScrollArea):
         self.setWidget(body)
         document.projectReplaced.connect(self._rebuild)
         document.areasChanged.connect(self._rebuild)
+        document.texturesChanged.connect(self._show_links)
         document.masksChanged.connect(self._show_resolution)
         document.activationsChanged.connect(self._show_values)
         document.poseWeightsChanged.connect(self._show_values)
@@ -238,8 +289,12 @@ class AreasPanel(QScrollArea):
             spin.setSingleStep(0.05)
             spin.setToolTip(tip)
         self.eraser = QCheckBox("Eraser (X)")
-        self.mirror = QCheckBox("Mirror (u → 1 − u)")
-        self.mirror.setToolTip("Every dab also lands mirrored across the face's symmetry in UV")
+        self.mirror = QComboBox()
+        for i, (key, (label, tip)) in enumerate(MIRROR_MODES.items()):
+            self.mirror.addItem(label, key)
+            self.mirror.setItemData(i, tip, Qt.ItemDataRole.ToolTipRole)
+        self.mirror.setToolTip("Mirror painting across the face's symmetry: in UV, or through "
+                               "the mesh for any UV layout")
         self.overlap = QCheckBox("Overlap view on the canvas")
         self.overlap.setToolTip("Red: the weighted sum of masks exceeds 1 (the clamp hides a "
                                 "conflict). Dark: no area reaches. Uses the current "
@@ -255,7 +310,8 @@ class AreasPanel(QScrollArea):
         form.addRow(grid)
         toggles = QHBoxLayout()
         toggles.addWidget(self.eraser)
-        toggles.addWidget(self.mirror)
+        toggles.addWidget(QLabel("Mirror"))
+        toggles.addWidget(self.mirror, 1)
         form.addRow(toggles)
         form.addRow(self.overlap)
         self._show_brush()
@@ -264,7 +320,8 @@ class AreasPanel(QScrollArea):
         self.opacity.valueChanged.connect(lambda v: self.state.set_brush(opacity=v))
         self.flow.valueChanged.connect(lambda v: self.state.set_brush(flow=v))
         self.eraser.toggled.connect(self.state.set_erase)
-        self.mirror.toggled.connect(lambda v: self.state.set_option(mirror=v))
+        self.mirror.currentIndexChanged.connect(
+            lambda _: self.state.set_mirror(self.mirror.currentData()))
         self.overlap.toggled.connect(lambda v: self.state.set_option(overlap=v))
         return box
 
@@ -309,7 +366,7 @@ class AreasPanel(QScrollArea):
         return box
 
     def _build_links(self) -> QGroupBox:
-        box = QGroupBox("Pose links of the selected area")
+        box = QGroupBox("Selected area: wrinkled map and pose links")
         v = QVBoxLayout(box)
         note = QLabel("Moving toward a pose raises this area's activation by gain × weight.")
         note.setWordWrap(True)
@@ -398,6 +455,8 @@ class AreasPanel(QScrollArea):
             widget.blockSignals(True)
             if isinstance(widget, QCheckBox):
                 widget.setChecked(bool(value))
+            elif isinstance(widget, QComboBox):
+                widget.setCurrentIndex(widget.findData(value))
             else:
                 widget.setValue(value)
             widget.blockSignals(False)
@@ -410,6 +469,16 @@ class AreasPanel(QScrollArea):
         if area is None:
             self.links_form.addRow(QLabel("No area selected."))
             return
+        textures = self.doc.project.textures
+        self.map_combo = QComboBox()
+        self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
+                                  "more)")
+        for name in textures.wrinkle_map_names:
+            self.map_combo.addItem(name, name)
+        self.map_combo.setCurrentIndex(textures.map_index(area.wrinkle_map))
+        index = self.state.active
+        self.map_combo.activated.connect(lambda i: self._map_chosen(index, i))
+        self.links_form.addRow("Wrinkled map", self.map_combo)
         links = self.doc.project.influence.links
         for pose in self.doc.project.poses:
             spin = QDoubleSpinBox()
@@ -422,6 +491,11 @@ class AreasPanel(QScrollArea):
                 lambda g, p=pose.name, a=area.name: mask_edits.set_link(self.doc, p, a, g))
             self.links_form.addRow(pose.name.replace("_", " "), spin)
             self.link_spins[pose.name] = spin
+
+    def _map_chosen(self, index: int, row: int) -> None:
+        name = self.map_combo.itemData(row)
+        # queued: the edit rebuilds this form, which must not delete the combo inside its signal
+        QTimer.singleShot(0, lambda: mask_edits.set_area_map(self.doc, index, name))
 
     # --- selection -----------------------------------------------------------------------------
     def select(self, index: int) -> None:

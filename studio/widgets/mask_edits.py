@@ -16,7 +16,7 @@ import numpy as np
 from PySide6.QtGui import QUndoCommand
 
 from studio.core import mask_ops
-from studio.core.brush import Brush, Rect, Stroke, tile_changes
+from studio.core.brush import Brush, Mirror, Rect, Stroke, tile_changes
 from studio.core.errors import ImageError
 from studio.core.images import load_grey, write_png
 from studio.core.influence import InfluenceArea
@@ -87,7 +87,7 @@ class PaintSession:
     """One stroke on one area, live: each segment stamps dabs and announces the touched rectangle
     (the viewport uploads just that); ``end`` pushes the stroke as one undo step."""
 
-    def __init__(self, doc: Document, index: int, brush: Brush, mirror: bool = False,
+    def __init__(self, doc: Document, index: int, brush: Brush, mirror: bool | Mirror = False,
                  text: str = "Paint") -> None:
         self.doc = doc
         self.area = doc.project.influence.areas[index]
@@ -249,6 +249,20 @@ def set_area_visible(doc: Document, index: int, visible: bool) -> None:
 
     doc.undo_stack.push(AreaValueCommand(doc, area, f"{'Show' if visible else 'Hide'} "
                                          f"{area.name}", lambda: area.visible, apply, visible))
+
+
+def set_area_map(doc: Document, index: int, wrinkle_map: str) -> None:
+    """Which wrinkled normal map the area reveals (by name; "" = the first map)."""
+    area = doc.project.influence.areas[index]
+    if area.wrinkle_map == wrinkle_map:
+        return
+
+    def apply(v: str) -> None:
+        area.wrinkle_map = v
+        doc.areasChanged.emit()
+
+    doc.undo_stack.push(AreaValueCommand(doc, area, f"Wrinkled map of {area.name}",
+                                         lambda: area.wrinkle_map, apply, wrinkle_map))
 
 
 def set_area_colour(doc: Document, index: int, colour: tuple[int, int, int]) -> None:

@@ -18,6 +18,7 @@ class MaskTools:
         self.window = window
         doc = window.doc
         self.state = PaintState(window)
+        self._remember_brush()
         self.panel = AreasPanel(doc, self.state)
         self.canvas = UvCanvas(doc, self.state)
         self.tool = FacePaintTool(doc, self.state,
@@ -41,6 +42,13 @@ class MaskTools:
         for title in ("Areas", "UV Paint"):
             menu_action = window.docks[title].toggleViewAction()
             window.tools.addAction(menu_action)
+
+    def _remember_brush(self) -> None:
+        """The brush (size, softness, flow, mirror mode) as the user last left it, and kept so."""
+        from studio.widgets.main_window import settings  # (the window imports this module)
+
+        self.state.restore(settings())
+        self.state.changed.connect(lambda: self.state.save(settings()))
 
     def _dropped(self) -> None:
         """The viewport switched to another tool: show the paint action unchecked."""

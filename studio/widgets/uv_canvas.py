@@ -42,7 +42,7 @@ from PySide6.QtWidgets import (
 
 from studio.core import mask_ops
 from studio.core.mask_ops import mesh_edges
-from studio.widgets.areas_panel import PaintState
+from studio.widgets.areas_panel import MIRROR_MODES, PaintState
 from studio.widgets.document import Document
 from studio.widgets.mask_edits import PaintSession
 
@@ -241,7 +241,8 @@ class PaintView(QGraphicsView):
         if state.active < 0 or state.active >= len(self.canvas.doc.project.influence.areas):
             self.canvas.hint.setText("Add or select an area in the Areas panel to paint.")
             return
-        self._session = PaintSession(self.canvas.doc, state.active, state.brush, state.mirror)
+        self._session = PaintSession(self.canvas.doc, state.active, state.brush,
+                                     state.stroke_mirror(self.canvas.doc.project.mesh))
         p = self.mapToScene(pos.toPoint())
         self._session.jump(p.x(), p.y(), pressure)
 
@@ -282,12 +283,15 @@ class UvCanvas(QWidget):
         inner_pen = QPen(QColor(255, 255, 255, 120), 1.0, Qt.PenStyle.DashLine)
         inner_pen.setCosmetic(True)
         self.inner_cursor.setPen(inner_pen)
-        for item in (self.cursor_item, self.inner_cursor):
+        self.mirror_cursor = QGraphicsEllipseItem()  # where the mirror paints, when it is on
+        mirror_pen = QPen(QColor(255, 255, 255, 170), 1.2, Qt.PenStyle.DashLine)
+        mirror_pen.setCosmetic(True)
+        self.mirror_cursor.setPen(mirror_pen)
+        for item in (self.cursor_item, self.inner_cursor, self.mirror_cursor):
             item.setBrush(QBrush(Qt.BrushStyle.NoBrush))
             item.setZValue(10)
             self.scene.addItem(item)
-        self.cursor_item.hide()
-        self.inner_cursor.hide()
+            item.hide()
 
         self.view = PaintView(self)
         self.backdrop = QComboBox()
@@ -467,8 +471,10 @@ class UvCanvas(QWidget):
             text = "No area selected: add or select one in the Areas panel."
         else:
             tool = "Eraser" if brush.erase else "Brush"
-            text = (f"{tool} on “{areas[a].name}” · radius {brush.radius:.0f} px · "
-                    f"wheel zoom, middle/Space-drag pan, [ ] size, X eraser, F fit")
+            text = f"{tool} on “{areas[a].name}” · radius {brush.radius:.0f} px · "
+            if self.state.mirror in MIRROR_MODES and self.state.mirror != "off":
+                text += f"mirror {MIRROR_MODES[self.state.mirror][0].lower()} · "
+            text += "wheel zoom, middle/Space-drag pan, [ ] size, X eraser, F fit"
             if self.state.overlap:
                 text += " · red: Σ mask·activation > 1, dark: no area"
         self.hint.setText(text)
@@ -476,9 +482,9 @@ class UvCanvas(QWidget):
     # --- brush cursor --------------------------------------------------------------------------
     def update_cursor(self, p: QPointF) -> None:
         self._cursor_pos = p
-        self._resize_cursor()
         self.cursor_item.show()
         self.inner_cursor.show()
+        self._resize_cursor()
 
     def _resize_cursor(self) -> None:
         p = getattr(self, "_cursor_pos", None)
@@ -488,3 +494,18 @@ class UvCanvas(QWidget):
         self.cursor_item.setRect(QRectF(p.x() - r, p.y() - r, 2 * r, 2 * r))
         ri = r * min(max(self.state.brush.hardness, 0.0), 1.0)
         self.inner_cursor.setRect(QRectF(p.x() - ri, p.y() - ri, 2 * ri, 2 * ri))
+        self._place_mirror_cursor(p, r)
+
+    def _place_mirror_cursor(self, p: QPointF, r: float) -> None:
+        """The mirror image of the brush (its main one), dashed; hidden with the mirror off or
+        when the brush is off every UV chart."""
+        mirror = self.state.stroke_mirror(self.doc.project.mesh)
+        owner, points, scale = (mirror(np.array([[p.x(), p.y()]]), self.mask_size()[::-1], r)
+                                if mirror is not None and self.cursor_item.isVisible()
+                                else ((), None, None))
+        if not len(owner):
+            self.mirror_cursor.hide()
+            return
+        (x, y), rm = points[0], r * float(scale[0])
+        self.mirror_cursor.setRect(QRectF(x - rm, y - rm, 2 * rm, 2 * rm))
+        self.mirror_cursor.show()
