@@ -93,22 +93,29 @@ class WdvSetup:
                    map_index: Callable[[str], int] | None = None) -> WdvSlots:
         """Per-vertex slots for the renderer (see ``WdvSlots``); unused slots are zero.
 
-        ``map_index`` turns an area's wrinkled-map name into the shader's map index.
+        A vertex in more than ``SLOTS`` areas keeps the areas with the longest authored motion
+        (the ones whose wrinkles show most), whatever the list order. ``map_index`` turns an
+        area's wrinkled-map name into the shader's map index.
         """
         slots = WdvSlots(np.zeros((n_welded, SLOTS, 4), dtype=np.float32),
                          np.zeros((n_welded, SLOTS), dtype=np.float32),
                          np.zeros((n_welded, SLOTS), dtype=np.float32))
-        used = np.zeros(n_welded, dtype=np.int32)
-        for area in self.areas:
-            if not area.enabled:
-                continue
-            idx = np.flatnonzero(area.authored & (used < SLOTS))
-            slot = used[idx]
-            slots.dirs[idx, slot, :3] = area.directions[idx]
-            slots.dirs[idx, slot, 3] = area.lengths[idx]
-            slots.cones[idx, slot] = np.radians(area.vertex_cones_deg()[idx])
-            slots.maps[idx, slot] = map_index(area.wrinkle_map) if map_index else 0
-            used[idx] += 1
+        areas = [a for a in self.areas if a.enabled]
+        if not areas:
+            return slots
+        lengths = np.stack([a.lengths for a in areas])  # (A, W)
+        keep = min(SLOTS, len(areas))
+        # per vertex, the areas with the longest motion first (stable: list order breaks ties)
+        order = np.argsort(-lengths, axis=0, kind="stable")[:keep]  # (keep, W)
+        for a_index, area in enumerate(areas):
+            cones = np.radians(area.vertex_cones_deg())
+            wrinkle_map = map_index(area.wrinkle_map) if map_index else 0
+            for slot in range(keep):  # a handful of slots, each vectorised over every vertex
+                idx = np.flatnonzero((order[slot] == a_index) & area.authored)
+                slots.dirs[idx, slot, :3] = area.directions[idx]
+                slots.dirs[idx, slot, 3] = area.lengths[idx]
+                slots.cones[idx, slot] = cones[idx]
+                slots.maps[idx, slot] = wrinkle_map
         return slots
 
 
