@@ -4,7 +4,9 @@
 // debug views.
 // Defines: TECHNIQUE_{FLAT,NONE,T1,T2,STRAIN}; T1_DIRECT (loop over every mask layer, the
 // thesis's form, instead of the composed weight texture); BLEND_NORMALS (blend the normals and
-// light once, instead of the thesis's blend of shaded colours).
+// light once, instead of the thesis's blend of shaded colours); RELIEF_PARALLAX (parallax
+// occlusion mapping of the wrinkles, below); RELIEF_DISPLACE needs nothing here (the
+// tessellation stages move the surface, face.tesc and face.tese).
 //
 // Several wrinkled maps, order-independent: with weights w_m (one per map, each in [0, 1]) and
 // W = sum of w_m, weights are scaled by 1 / W where W > 1; the result is
@@ -54,10 +56,45 @@ vec3 unpack_normal(vec2 xy) {
 }
 
 // Tangent-space normal of wrinkled map m (0 comes with the neutral map's fetch).
-vec3 wrinkled_normal(int m, vec4 normals) {
+vec3 wrinkled_normal(int m, vec4 normals, vec2 uv) {
     if (m == 0) return unpack_normal(normals.zw);
-    return unpack_normal(texture(u_more_maps, vec3(v_texcoord, float(m - 1))).xy);
+    return unpack_normal(texture(u_more_maps, vec3(uv, float(m - 1))).xy);
 }
+
+#ifdef RELIEF_PARALLAX
+// Parallax occlusion mapping (for GL 3.3 or a low budget; issue 10). The surface is taken to lie
+// at height H(uv) = u_relief_depth * sum of w_m * h_m (model units; h from studio/core/relief.py,
+// |h| <= 1, valleys negative); the view ray is marched down through the height range
+// [-depth * W, depth * W] in a handful of steps (more at grazing angles) until it passes under
+// H, and the crossing is refined linearly. Only wrinkled pixels (W > 0) come here.
+uniform sampler2D u_relief;      // rgba: wrinkle height of wrinkled maps 0..3
+uniform float u_relief_depth;    // model units
+uniform float u_uv_per_unit;     // texcoord units per model unit on the surface (mesh average)
+
+vec2 parallax_texcoord(vec2 uv, vec4 w, float total, mat3 tbn, vec3 view_dir, vec2 dx,
+                       vec2 dy) {
+    vec3 v = view_dir * tbn;   // tangent space: x along +u, y along +v, z along the normal
+    v.z = max(v.z, 0.2);       // limit the offset at grazing angles
+    // texcoord shift per model unit of height; texcoord y runs down the image (1 - v)
+    vec2 shift = vec2(v.x, -v.y) / v.z * u_uv_per_unit;
+    int steps = int(mix(6.0, 16.0, 1.0 - v.z));
+    float top = u_relief_depth * total;
+    float dz = 2.0 * top / float(steps);
+    float z = top;
+    float above = top - u_relief_depth * dot(w, textureGrad(u_relief, uv + shift * z, dx, dy));
+    for (int i = 1; i <= steps; ++i) {
+        float next = z - dz;
+        float gap = next - u_relief_depth * dot(w, textureGrad(u_relief, uv + shift * next, dx,
+                                                                 dy));
+        if (gap <= 0.0) {   // the ray went under the surface between z and next
+            return uv + shift * (z - dz * above / (above - gap));
+        }
+        z = next;
+        above = gap;
+    }
+    return uv + shift * z;
+}
+#endif
 
 vec3 heat(float t) {
     return clamp(vec3(1.5 - abs(4.0 * t - 3.0), 1.5 - abs(4.0 * t - 2.0),
@@ -73,18 +110,23 @@ void main() {
         w /= total;
         total = 1.0;
     }
+    vec2 uv = v_texcoord;
 #ifdef TECHNIQUE_FLAT
     vec3 colour = shade(vec3(0.62), n_geo, view_dir);
     vec3 n = n_geo;
 #else
     mat3 tbn = mat3(normalize(v_tangent), normalize(v_bitangent), n_geo);
-    vec3 albedo = srgb_to_linear(texture(u_diffuse, v_texcoord).rgb);
-    vec4 normals = texture(u_normals, v_texcoord);
+#ifdef RELIEF_PARALLAX
+    vec2 uv_dx = dFdx(uv), uv_dy = dFdy(uv);   // before any branch: derivatives need all lanes
+    if (total > 0.0) uv = parallax_texcoord(uv, w, total, tbn, view_dir, uv_dx, uv_dy);
+#endif
+    vec3 albedo = srgb_to_linear(texture(u_diffuse, uv).rgb);
+    vec4 normals = texture(u_normals, uv);
     vec3 n_neutral = normalize(tbn * unpack_normal(normals.xy));
     vec3 n_sum = n_neutral * (1.0 - total);
 #ifdef BLEND_NORMALS
     for (int m = 0; m < 4; ++m) {
-        if (w[m] > 0.0) n_sum += w[m] * normalize(tbn * wrinkled_normal(m, normals));
+        if (w[m] > 0.0) n_sum += w[m] * normalize(tbn * wrinkled_normal(m, normals, uv));
     }
     vec3 n = normalize(n_sum);
     vec3 colour = shade(albedo, n, view_dir);
@@ -92,7 +134,7 @@ void main() {
     vec3 colour = shade(albedo, n_neutral, view_dir) * (1.0 - total);
     for (int m = 0; m < 4; ++m) {
         if (w[m] > 0.0) {
-            vec3 n_m = normalize(tbn * wrinkled_normal(m, normals));
+            vec3 n_m = normalize(tbn * wrinkled_normal(m, normals, uv));
             colour += w[m] * shade(albedo, n_m, view_dir);   // the thesis's colour blend
             n_sum += w[m] * n_m;
         }

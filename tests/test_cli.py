@@ -70,6 +70,9 @@ def test_vertices_picks_the_sample_resolution(tmp_path):
     (["--weight", "3"], "--weight"),
     (["--vertices", "7"], "7"),
     (["--technique", "t3"], "t3"),
+    (["--relief", "bumpy"], "bumpy"),
+    (["--relief", "displace", "--relief-depth", "-1"], "-1"),
+    (["--relief-depth", "deep"], "deep"),
 ])
 def test_bad_arguments_give_one_line_and_exit_code_2(tmp_path, capsys, args, needle):
     with pytest.raises(SystemExit) as exit_info:
@@ -95,3 +98,16 @@ def test_real_process_exit_code(tmp_path):
     assert result.returncode == 2
     assert "Traceback" not in result.stderr
     assert result.stderr.strip().startswith("wrinkle-studio: error:")
+
+
+def test_render_with_displaced_wrinkles_writes_a_png_whose_profile_differs(tmp_path):
+    profile = ("--technique", "t2", "--pose", "surprise", "--yaw", "90", "--pitch", "0")
+    plain = render_png(tmp_path, *profile)
+    displaced = render_png(tmp_path, *profile, "--relief", "displace", "--relief-depth", "0.06")
+    parallax = render_png(tmp_path, *profile, "--relief", "parallax")
+    assert not np.array_equal(displaced, plain) and not np.array_equal(parallax, plain)
+    # the neutral face has no wrinkles to raise
+    neutral = render_png(tmp_path, "--technique", "t2")
+    assert np.abs(render_png(tmp_path, "--technique", "t2", "--relief", "displace").astype(int)
+                  - neutral).max() <= 1
+

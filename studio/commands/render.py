@@ -13,6 +13,7 @@ import numpy as np
 from studio.cli import load_project_or_sample, parse_size, parse_vertices
 from studio.core.errors import StudioError
 from studio.core.project import Project
+from studio.core.relief import suggested_relief_depth
 
 
 def parse_frames(text: str) -> tuple[int, int, int]:
@@ -33,6 +34,17 @@ def parse_frames(text: str) -> tuple[int, int, int]:
     if end - start > 100_000 * step:
         raise argparse.ArgumentTypeError(f"'{text}': more than 100000 frames")
     return start, end, step
+
+
+def parse_depth(text: str) -> float:
+    """A relief depth: a finite number, 0 or more (model units)."""
+    try:
+        depth = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not 0.0 <= depth < float("inf"):
+        raise argparse.ArgumentTypeError(f"'{text}': the relief depth must be 0 or more")
+    return depth
 
 
 def frame_path(pattern: str, frame: int) -> Path:
@@ -146,6 +158,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")
     p.add_argument("--blend", choices=("colour", "normal"), default="colour",
                    help="mix two shaded colours (the thesis) or the two normals (light once)")
+    p.add_argument("--relief", choices=("off", "displace", "parallax"), default="off",
+                   help="wrinkles in depth: displace the surface (tessellation, OpenGL 4.0; "
+                        "shows in silhouette) or parallax mapping (cheaper, not in silhouette)")
+    p.add_argument("--relief-depth", type=parse_depth, metavar="D",
+                   help="depth of the deepest wrinkle in model units (default: 1.4%% of the "
+                        "face's size, 0.03 for the sample face)")
     p.add_argument("--yaw", type=float, help="camera yaw in degrees (0 = front, 90 = profile)")
     p.add_argument("--pitch", type=float, help="camera pitch in degrees")
     p.add_argument("--frames", type=parse_frames, metavar="START:END[:STEP]",
@@ -175,22 +193,27 @@ def run_render(args: argparse.Namespace) -> int:
     weights = project.single_pose_weights(args.pose, args.weight)
     with OffscreenStudio(project, *args.size) as studio:
         _aim(studio, args)
-        image = studio.render(_settings(args), weights)
+        image = studio.render(_settings(args, project), weights)
     out = Path(args.output)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
         Image.fromarray(image).save(out)
     except OSError as exc:
         raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
-    print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}, pose {args.pose})")
+    relief = "" if args.relief == "off" else f", relief {args.relief}"
+    print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}{relief}, "
+          f"pose {args.pose})")
     return 0
 
 
-def _settings(args: argparse.Namespace):
+def _settings(args: argparse.Namespace, project: Project):
     from studio.render.renderer import RenderSettings
 
+    depth = args.relief_depth
+    if depth is None:
+        depth = suggested_relief_depth(*project.mesh.bounds())
     return RenderSettings(technique=args.technique, view=args.view, wireframe=args.wireframe,
-                          blend=args.blend)
+                          blend=args.blend, relief=args.relief, relief_depth=depth)
 
 
 def _aim(studio, args: argparse.Namespace) -> None:
@@ -222,7 +245,7 @@ def run_animation(args: argparse.Namespace,
     with OffscreenStudio(project, *args.size) as studio:
         _aim(studio, args)
         for i, (frame, image) in enumerate(zip(frames, render_frames(
-                studio, _settings(args), project, frames), strict=True)):
+                studio, _settings(args, project), project, frames), strict=True)):
             writer.add(frame, image)
             if progress is not None:
                 progress(i + 1, len(frames))

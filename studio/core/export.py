@@ -17,7 +17,8 @@ from studio.core.images import write_png
 from studio.core.project import Project
 from studio.paths import shader_dir
 
-SHADERS = ("common.glsl", "face.vert", "face.frag", "t1_compose.vert", "t1_compose.frag")
+SHADERS = ("common.glsl", "relief.glsl", "face.vert", "face.tesc", "face.tese", "face.frag",
+           "t1_compose.vert", "t1_compose.frag")
 
 
 def safe_name(name: str) -> str:

@@ -17,6 +17,7 @@ from studio.core.camera import OrbitCamera
 from studio.core.geometry import DeformCache
 from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
+from studio.core.relief import DEFAULT_RELIEF_DEPTH, maps_digest, relief_image
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
 from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
 from studio.core.wdv import SLOTS, WdvSlots
@@ -26,9 +27,16 @@ TECHNIQUES = ("flat", "none", "t1", "t2", "strain")
 VIEW_MODES = {"shaded": 0, "heat": 1, "normals": 2, "uv": 3}
 
 _UNIT = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
-         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7}
+         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7, "relief": 8}
 BLENDS = ("colour", "normal")
 T1_MODES = ("composed", "direct")
+# wrinkles in silhouette (issue 10): off; displace = tessellate and move the surface (GL 4.0);
+# parallax = parallax occlusion mapping in the fragment shader (GL 3.3, cheaper)
+RELIEFS = ("off", "displace", "parallax")
+DISPLACE_GL = 400  # tessellation shaders: OpenGL 4.0
+TESS_PIXELS = 3.0  # displace: wanted screen length of one segment of a wrinkled edge
+TESS_MAX = 32.0  # displace: most segments per edge
+_WRINKLE_TECHNIQUES = ("t1", "t2", "strain")
 
 
 @dataclass
@@ -44,14 +52,24 @@ class RenderSettings:
     blend: str = "colour"  # colour: the thesis's mix of two shadings; normal: light once
     t1_mode: str = "composed"  # composed: one weight texture a frame; direct: every mask a pixel
     strain_full_at: float = DEFAULT_FULL_AT  # compression at which strain wrinkles fully show
+    relief: str = "off"  # off | displace (tessellation, GL 4.0) | parallax: wrinkles in depth
+    relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
 
     def __post_init__(self) -> None:
         for value, allowed, what in ((self.technique, TECHNIQUES, "technique"),
                                      (self.view, tuple(VIEW_MODES), "view"),
                                      (self.blend, BLENDS, "blend"),
-                                     (self.t1_mode, T1_MODES, "technique-1 mode")):
+                                     (self.t1_mode, T1_MODES, "technique-1 mode"),
+                                     (self.relief, RELIEFS, "relief")):
             if value not in allowed:
                 raise ValueError(f"unknown {what} '{value}' (choose from {allowed})")
+        if not 0.0 <= self.relief_depth < float("inf"):
+            raise ValueError(f"the relief depth must be 0 or more, got {self.relief_depth}")
+
+    @property
+    def active_relief(self) -> str:
+        """The relief actually drawn: only the wrinkle techniques have wrinkles to raise."""
+        return self.relief if self.technique in _WRINKLE_TECHNIQUES else "off"
 
     def program_key(self) -> tuple[str, ...]:
         """What selects a compiled program: only options that change the shader's code."""
@@ -60,11 +78,25 @@ class RenderSettings:
             defines.append("BLEND_NORMALS")
         if self.technique == "t1" and self.t1_mode == "direct":
             defines.append("T1_DIRECT")
+        if self.active_relief != "off":
+            defines.append(f"RELIEF_{self.active_relief.upper()}")
         return tuple(defines)
 
 
 def _texture_dtype(image: np.ndarray) -> str:
     return "nu2" if image.dtype == np.uint16 else "f1"
+
+
+def _uv_per_unit(mesh: FaceMesh) -> float:
+    """Texcoord units per model unit over the neutral surface (the root of the UV area over the
+    surface area): how far a parallax offset of one model unit moves in the maps."""
+    corners = mesh.rest[mesh.weld][mesh.triangles]
+    uv = mesh.uvs[mesh.triangles]
+    area = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]),
+                          axis=1).sum()
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    uv_area = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]).sum()
+    return float(np.sqrt(uv_area / area)) if area > 0 and uv_area > 0 else 1.0
 
 
 class FaceRenderer:
@@ -92,7 +124,16 @@ class FaceRenderer:
         self.last_deform_ms = 0.0  # CPU time of the last normals + tangents update
         self.expression_factor = 1.0
         self.scale_free = True
+        self._relief: moderngl.Texture | None = None  # wrinkle heights, made on first use
+        self._relief_maps: tuple[np.ndarray, list[np.ndarray]] | None = None  # due from these
+        self._relief_digest = b""  # of the maps the relief texture was made from
+        self._uv_per_unit = 1.0
         self.set_masks(np.zeros((0, 1, 1), np.float32))
+
+    @property
+    def can_displace(self) -> bool:
+        """Whether relief "displace" can draw here (tessellation shaders, OpenGL 4.0)."""
+        return self.ctx.version_code >= DISPLACE_GL
 
     # --- scene data ---------------------------------------------------------------------------
     def set_mesh(self, mesh: FaceMesh) -> None:
@@ -115,6 +156,7 @@ class FaceRenderer:
         self._positions = mesh.rest.copy()
         self._positions_version = 0
         self._geometry_dirty = True
+        self._uv_per_unit = _uv_per_unit(mesh)
 
     def set_positions(self, welded_positions: np.ndarray) -> None:
         """The pose of this frame (welded positions); normals and tangents follow at draw."""
@@ -173,6 +215,39 @@ class FaceRenderer:
             if old is not None:
                 old.release()
             self._textures[name] = tex
+        # the wrinkle heights follow these maps; integrated once, when a relief first draws
+        # (a fraction of a second at 1024², never per frame)
+        self._relief_maps = (textures.normal_neutral, list(textures.wrinkle_maps.values()))
+
+    def _ensure_relief(self) -> None:
+        """The wrinkle-height texture (studio/core/relief.py) for the current maps."""
+        if self._relief_maps is None:
+            return
+        from studio.core.errors import RenderError
+
+        digest = maps_digest(*self._relief_maps)
+        if self._relief is not None and digest == self._relief_digest:
+            self._relief_maps = None  # the same maps again (a project reloaded, say)
+            return
+        image = relief_image(*self._relief_maps)
+        h, w = image.shape[:2]
+        try:
+            self.ctx.error  # noqa: B018 - reading it clears an earlier, unrelated error flag
+            tex = self.ctx.texture((w, h), 4, image.tobytes(), dtype="f2")
+            if self.ctx.error == "GL_OUT_OF_MEMORY":
+                tex.release()
+                raise MemoryError("GL_OUT_OF_MEMORY")
+        except (moderngl.Error, MemoryError) as exc:
+            raise RenderError(f"the GPU cannot hold the wrinkle heights ({w}×{h} pixels; "
+                              f"{exc or type(exc).__name__}); use smaller maps") from None
+        tex.build_mipmaps()
+        tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+        tex.repeat_x = tex.repeat_y = False
+        if self._relief is not None:
+            self._relief.release()
+        self._relief = tex
+        self._relief_maps = None
+        self._relief_digest = digest
 
     def set_masks(self, masks: np.ndarray) -> None:
         """Technique 1 masks, (N, H, W) in [0, 1]; any N (an empty stack becomes one zero layer)."""
@@ -306,6 +381,16 @@ class FaceRenderer:
         """Draw the face into ``fbo`` (within ``viewport``, x y w h in device pixels)."""
         if self.mesh is None:
             raise RuntimeError("FaceRenderer.render called before set_mesh")
+        relief = settings.active_relief
+        if relief == "displace" and not self.can_displace:
+            from studio.core.errors import RenderError
+
+            v = self.ctx.version_code
+            raise RenderError(f"relief 'displace' needs OpenGL 4.0 (tessellation shaders); "
+                              f"this driver offers {v // 100}.{v % 100 // 10}; use relief "
+                              "'parallax' instead")
+        if relief != "off":
+            self._ensure_relief()
         if self._geometry_dirty:
             start = time.perf_counter()
             attributes = self._deform.update(self._positions)
@@ -316,7 +401,8 @@ class FaceRenderer:
         # set every piece of state the passes rely on: the viewport's overlays may leave any on
         ctx.disable(moderngl.BLEND | moderngl.CULL_FACE)
         ctx.wireframe = False
-        if settings.technique == "t1" and settings.t1_mode == "composed" and self._t1_dirty:
+        composed = settings.t1_mode == "composed" or relief == "displace"  # tessellation reads it
+        if settings.technique == "t1" and composed and self._t1_dirty:
             self._compose_t1()
         if settings.technique == "strain":
             self._update_strain(settings.strain_full_at)
@@ -331,9 +417,13 @@ class FaceRenderer:
         proj = camera.projection_matrix(viewport[2] / max(viewport[3], 1))
         key = settings.program_key()
         prog = self._program(key)
-        self._set_uniforms(prog, view, proj, settings)
+        self._set_uniforms(prog, view, proj, settings, viewport)
         self._bind_textures()
-        self._vao(key).render(moderngl.TRIANGLES)
+        if relief == "displace":
+            ctx.patch_vertices = 3
+            self._vao(key).render(moderngl.PATCHES)
+        else:
+            self._vao(key).render(moderngl.TRIANGLES)
         if settings.wireframe:
             self._draw_wireframe(view, proj)
 
@@ -380,7 +470,8 @@ class FaceRenderer:
                      ("compose",): ("t1_compose.vert", "t1_compose.frag")}
             vert, frag = files.get(key, ("face.vert", "face.frag"))
             defines = () if key in files else key
-            self._programs[key] = build_program(self.ctx, vert, frag, defines)
+            tess = ("face.tesc", "face.tese") if "RELIEF_DISPLACE" in key else (None, None)
+            self._programs[key] = build_program(self.ctx, vert, frag, defines, *tess)
         return self._programs[key]
 
     def _vao(self, key: tuple[str, ...]) -> moderngl.VertexArray:
@@ -404,7 +495,7 @@ class FaceRenderer:
         prog[name].write(matrix.T.astype("f4").tobytes())
 
     def _set_uniforms(self, prog: moderngl.Program, view: np.ndarray, proj: np.ndarray,
-                      settings: RenderSettings) -> None:
+                      settings: RenderSettings, viewport: tuple[int, int, int, int]) -> None:
         self._write_matrix(prog, "u_view", view)
         self._write_matrix(prog, "u_proj", proj)
         light = np.asarray(settings.light_dir, float)
@@ -416,6 +507,13 @@ class FaceRenderer:
             "u_view_mode": VIEW_MODES[settings.view],
             "u_expression": self.expression_factor,
             "u_scale_free": self.scale_free,
+            "u_relief_depth": settings.relief_depth,
+            "u_uv_per_unit": self._uv_per_unit,
+            "u_viewport_size": (float(viewport[2]), float(viewport[3])),
+            "u_tess_pixels": TESS_PIXELS,
+            "u_tess_max": TESS_MAX,
+            "u_relief_texels_per_unit": self._uv_per_unit * max(
+                self._relief.size if self._relief is not None else (1, 1)),
         }
         values.update({f"u_{name}": unit for name, unit in _UNIT.items()})
         for name, value in values.items():
@@ -430,6 +528,8 @@ class FaceRenderer:
         self._t1_weight.use(_UNIT["t1_weight"])
         self._t1_index.use(_UNIT["t1_index"])
         self._t1_slot_weight.use(_UNIT["t1_slot_weight"])
+        if self._relief is not None:
+            self._relief.use(_UNIT["relief"])
 
     def _release_geometry(self) -> None:
         for vao in self._vaos.values():
@@ -444,6 +544,6 @@ class FaceRenderer:
         for prog in self._programs.values():
             prog.release()
         for tex in [*self._textures.values(), self._masks, self._activations, self._t1_index,
-                    self._t1_slot_weight, self._t1_weight, self._t1_fbo]:
+                    self._t1_slot_weight, self._t1_weight, self._t1_fbo, self._relief]:
             if tex is not None:
                 tex.release()

@@ -33,9 +33,20 @@ def with_defines(source: str, defines: Iterable[str]) -> str:
 
 
 def build_program(ctx: moderngl.Context, vertex: str, fragment: str,
-                  defines: Iterable[str] = ()) -> moderngl.Program:
+                  defines: Iterable[str] = (), tess_control: str | None = None,
+                  tess_evaluation: str | None = None) -> moderngl.Program:
+    """A program from shader files, every stage with the same defines; the tessellation stages
+    (OpenGL 4.0) are optional and come as a pair."""
+    if (tess_control is None) != (tess_evaluation is None):
+        raise ValueError("give both tessellation stages or neither")
     defines = tuple(defines)
+
+    def stage(name: str | None) -> str | None:
+        return None if name is None else with_defines(load_source(name), defines)
+
     return ctx.program(
-        vertex_shader=with_defines(load_source(vertex), defines),
-        fragment_shader=with_defines(load_source(fragment), defines),
+        vertex_shader=stage(vertex),
+        fragment_shader=stage(fragment),
+        tess_control_shader=stage(tess_control),
+        tess_evaluation_shader=stage(tess_evaluation),
     )

@@ -17,6 +17,8 @@ from PySide6.QtGui import QUndoStack
 
 from studio.core.camera import OrbitCamera
 from studio.core.project import Project
+from studio.core.relief import DEFAULT_RELIEF_DEPTH, suggested_relief_depth
+from studio.render.renderer import BLENDS, RELIEFS, TECHNIQUES, VIEW_MODES
 from studio.widgets.commands import ValueCommand
 
 
@@ -29,6 +31,8 @@ class ViewState:
     debug_view: str = "shaded"  # shaded | heat | normals | uv
     wireframe: bool = False
     blend: str = "colour"  # colour: the thesis's mix of two shadings | normal: light once
+    relief: str = "off"  # off | displace (tessellation, OpenGL 4.0) | parallax
+    relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
     light_azimuth: float = 30.0  # degrees, camera-relative: 0 = from the viewer, + = from the right
     light_elevation: float = 35.0  # degrees above the view direction
 
@@ -38,8 +42,26 @@ class ViewState:
 
     @classmethod
     def from_dict(cls, data: dict) -> ViewState:
-        names = {f.name for f in fields(cls)}
-        return cls(**{k: v for k, v in data.items() if k in names})
+        """Settings from a project file; a value of the wrong type or an unknown choice (a
+        damaged or newer file) falls back to the default instead of breaking the viewport."""
+        defaults = cls()
+        choices = {"technique": TECHNIQUES, "debug_view": tuple(VIEW_MODES), "blend": BLENDS,
+                   "relief": RELIEFS}
+        values = {}
+        for f in fields(cls):
+            if f.name not in data:
+                continue
+            value, default = data[f.name], getattr(defaults, f.name)
+            if isinstance(default, float) and isinstance(value, int | float) \
+                    and not isinstance(value, bool):
+                value = float(value)
+            if type(value) is not type(default) or (
+                    f.name in choices and value not in choices[f.name]):
+                continue
+            if isinstance(value, float) and not np.isfinite(value):
+                continue
+            values[f.name] = value
+        return cls(**values)
 
 
 class Document(QObject):
@@ -75,6 +97,8 @@ class Document(QObject):
             k: float(v) for k, v in project.view.get("pose_weights", {}).items()
             if k in project.pose_names}
         self.view = ViewState.from_dict(project.view.get("view", {}))
+        if "relief_depth" not in project.view.get("view", {}):  # scaled to this face's units
+            self.view.relief_depth = suggested_relief_depth(*project.mesh.bounds())
         # selected vertices (welded indices) for technique-2 authoring; changed by commands in
         # studio/widgets/wdv_edits.py, announced by selectionChanged
         self.selection = np.zeros(project.mesh.n_welded, dtype=bool)

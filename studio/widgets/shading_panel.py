@@ -3,6 +3,7 @@ expression factor and cone angle."""
 
 from __future__ import annotations
 
+import numpy as np
 from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox, QVBoxLayout, QWidget
 
 from studio.widgets.document import Document
@@ -13,6 +14,9 @@ TECHNIQUES = [("Technique 2 (wrinkle vectors)", "t2"), ("Technique 1 (influence 
               ("Split: t1 | t2 | automatic", "split")]
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Wrinkle visibility (heat map)", "heat"),
                ("Normals", "normals"), ("UV checker", "uv")]
+RELIEF_RANGE = 0.05  # the relief depth slider's end, as a fraction of the face's size
+RELIEFS = [("Off (normal maps only)", "off"), ("Displace (in silhouette)", "displace"),
+           ("Parallax (cheaper)", "parallax")]
 
 
 class ShadingPanel(QWidget):
@@ -40,6 +44,19 @@ class ShadingPanel(QWidget):
         self.blend.setToolTip("How the neutral and wrinkled normal maps are mixed")
         self.blend.activated.connect(lambda: document.set_view(blend=self.blend.currentData()))
         form.addRow("Blend", self.blend)
+        self.relief = QComboBox()
+        for text, key in RELIEFS:
+            self.relief.addItem(text, key)
+        self.relief.setObjectName("relief")
+        self.relief.setToolTip("Wrinkles in depth. Displace moves the surface (tessellation, "
+                               "OpenGL 4.0), so wrinkles show in the outline; parallax shifts "
+                               "the maps per pixel, cheaper, not in the outline")
+        self.relief.activated.connect(lambda: document.set_view(relief=self.relief.currentData()))
+        form.addRow("Relief", self.relief)
+        self.relief_depth = SliderRow("Relief depth", 0.0, 0.1, 4)
+        self.relief_depth.setToolTip("Depth of the deepest wrinkle, in model units")
+        self.relief_depth.edited.connect(lambda v, _g: document.set_view(relief_depth=v))
+        form.addRow(self.relief_depth)
         self.wireframe = QCheckBox("Wireframe overlay")
         self.wireframe.toggled.connect(lambda on: document.set_view(wireframe=on))
         form.addRow(self.wireframe)
@@ -74,12 +91,25 @@ class ShadingPanel(QWidget):
         else:
             self.doc.set_view(split=False, technique=key)
 
+    def _fit_relief_range(self) -> None:
+        """The depth slider spans 0 to 5% of the face's size, whatever its units."""
+        lo, hi = self.doc.project.mesh.bounds()
+        top = max(RELIEF_RANGE * float(np.max(hi - lo)), self.doc.view.relief_depth, 1e-6)
+        row = self.relief_depth
+        row.maximum = top
+        row.spin.setRange(0.0, top)
+        row.spin.setSingleStep(top / 100.0)
+
     def _show_values(self) -> None:
         view = self.doc.view
         key = "split" if view.split else view.technique
         self.technique.setCurrentIndex(self.technique.findData(key))
         self.debug_view.setCurrentIndex(self.debug_view.findData(view.debug_view))
         self.blend.setCurrentIndex(self.blend.findData(view.blend))
+        self.relief.setCurrentIndex(self.relief.findData(view.relief))
+        self._fit_relief_range()
+        self.relief_depth.set_value(view.relief_depth)
+        self.relief_depth.setEnabled(view.relief != "off")
         self.wireframe.blockSignals(True)
         self.wireframe.setChecked(view.wireframe)
         self.wireframe.blockSignals(False)

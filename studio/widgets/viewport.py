@@ -13,7 +13,7 @@ import itertools
 import time
 
 import moderngl
-from PySide6.QtCore import QPoint, Qt, Signal
+from PySide6.QtCore import QPoint, Qt, QTimer, Signal
 from PySide6.QtGui import QMouseEvent, QWheelEvent
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 from PySide6.QtWidgets import QLabel, QWidget
@@ -69,6 +69,7 @@ class Viewport(QOpenGLWidget):
         self._mask_regions: list[tuple[int, int, int, int, int]] = []
         self._drag: tuple[str, QPoint] | None = None
         self.frames_rendered = 0
+        self._relief_refused = False  # the fallback from displace to parallax was announced
         self.setMinimumSize(320, 240)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMouseTracking(True)
@@ -154,7 +155,8 @@ class Viewport(QOpenGLWidget):
         w, h = round(self.width() * ratio), round(self.height() * ratio)
         view = self.doc.view
         base = dict(view=view.debug_view, wireframe=view.wireframe, light_dir=view.light_dir(),
-                    blend=view.blend)
+                    blend=view.blend, relief=self._relief(view.relief),
+                    relief_depth=view.relief_depth)
         if view.split:
             for (x, width), technique in zip(split_columns(w), SPLIT, strict=True):
                 self.renderer.render(fbo, self.doc.camera,
@@ -169,6 +171,20 @@ class Viewport(QOpenGLWidget):
         self.ctx.finish()
         self.frames_rendered += 1
         self.frameRendered.emit((time.perf_counter() - start) * 1000.0)
+
+    def _relief(self, relief: str) -> str:
+        """The relief to draw: without OpenGL 4.0, "displace" falls back to parallax, once
+        said (the shading panel then shows parallax)."""
+        if relief != "displace" or self.renderer.can_displace:
+            return relief
+        if not self._relief_refused:
+            self._relief_refused = True
+            v = self.ctx.version_code
+            message = (f"Displacement needs OpenGL 4.0 (tessellation shaders); this driver "
+                       f"offers {v // 100}.{v % 100 // 10}. Showing parallax relief instead.")
+            QTimer.singleShot(0, lambda: (self.doc.set_view(relief="parallax"),
+                                          self.glFailed.emit(message)))
+        return "parallax"
 
     def resizeGL(self, w: int, h: int) -> None:
         self._update_labels()
