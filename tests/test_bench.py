@@ -12,7 +12,7 @@ from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std"]
+           "fps_min", "fps_max", "fps_std", "relief"]
 
 
 def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
@@ -28,6 +28,8 @@ def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
     for row in rows:
         assert int(row["frames"]) == 2 and (row["width"], row["height"]) == ("160", "120")
         assert float(row["mean_ms"]) > 0 and float(row["fps_min"]) <= float(row["fps_max"])
+    reliefs = {(r["technique"], r["relief"]) for r in rows if r["relief"] != "off"}
+    assert reliefs == {(t, r) for t in ("t1", "t2") for r in ("displace", "parallax")}
     areas = sorted(int(r["areas"]) for r in rows if r["technique"] == "t1")
     assert areas[-1] >= 16
     for plot in ("fps_by_areas.png", "fps_by_vertices.png"):
@@ -72,3 +74,40 @@ def test_normal_blending_shows_the_same_wrinkles_and_nothing_elsewhere(studio, t
     neutral = studio.render(RenderSettings(technique="none"), {})
     assert np.array_equal(studio.render(RenderSettings(technique=technique, blend="normal"), {}),
                           neutral)
+
+
+def test_a_held_pose_is_not_deformed_again_and_a_reloaded_mesh_is(studio):
+    """The per-frame work skips what did not change: the same weights again deform and upload
+    nothing — but a new mesh (which starts at rest) is posed again with the same weights."""
+    scene, settings = studio.scene, RenderSettings(technique="t2")
+    rest = studio.render(settings, {})
+    assert scene.set_pose_weights({"surprise": 1.0})
+    posed = studio.render(settings)
+    assert np.abs(posed.astype(int) - rest.astype(int)).max() > 20
+    assert not scene.set_pose_weights({"surprise": 1.0})
+    assert np.array_equal(studio.render(settings), posed)
+    scene.reload_mesh()
+    assert np.array_equal(studio.render(settings), posed)
+    assert scene.set_pose_weights({"surprise": 0.5})
+    assert not np.array_equal(studio.render(settings), posed)
+
+
+def test_deformation_is_timed_every_frame(sample):
+    from studio.bench.runner import deformation_cpu_ms
+    from studio.core.timeline import sequence_all_poses
+
+    timeline = sequence_all_poses([p.name for p in sample.poses], fps=24.0)
+    times = deformation_cpu_ms(sample, timeline, 12)
+    assert times.shape == (12,) and np.isfinite(times).all() and (times >= 0).all()
+
+
+def test_cpu_breakdown_names_every_part(capsys):
+    from studio.bench.cpu import main
+
+    assert main(["--vertices", "561", "--repeat", "1", "--areas", "2", "12"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    parts = {line.rsplit(None, 2)[0]: float(line.split()[-2]) for line in lines}
+    assert set(parts) == {"timeline weights", "blend", "normals + tangents, the face moving",
+                          "normals + tangents, every vertex moving", "activations, 2 areas",
+                          "activations, 12 areas"}
+    assert all(np.isfinite(ms) and ms >= 0 for ms in parts.values())

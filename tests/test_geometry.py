@@ -335,7 +335,7 @@ def _uv_sphere() -> FaceMesh:
     return _mesh(np.asarray(s.vertices), np.asarray(s.faces), uvs=uvs)
 
 
-@pytest.mark.parametrize(
+MESHES = pytest.mark.parametrize(
     "make",
     [
         lambda: _grid(13, 9, seam=False),
@@ -348,12 +348,21 @@ def _uv_sphere() -> FaceMesh:
     ],
     ids=["grid", "grid-seam", "fan", "uv-sphere", "folded-seam", "mirrored", "permuted"],
 )
-@pytest.mark.parametrize("small_chunks", [False, True])
+SMALL_CHUNKS = pytest.mark.parametrize("small_chunks", [False, True])
+
+
+def _small_chunks(monkeypatch) -> None:
+    """Many chunks and merged groups, as large irregular meshes get."""
+    monkeypatch.setattr(geometry, "_CHUNK", 7)
+    monkeypatch.setattr(geometry, "_MIN_GROUP", 4)
+    monkeypatch.setattr(geometry, "_PAD_WASTE", 0.0)
+
+
+@MESHES
+@SMALL_CHUNKS
 def test_deform_cache_matches_standalone(make, small_chunks, monkeypatch):
-    if small_chunks:  # many chunks and merged groups, as large irregular meshes get
-        monkeypatch.setattr(geometry, "_CHUNK", 7)
-        monkeypatch.setattr(geometry, "_MIN_GROUP", 4)
-        monkeypatch.setattr(geometry, "_PAD_WASTE", 0.0)
+    if small_chunks:
+        _small_chunks(monkeypatch)
     mesh = make()
     cache = DeformCache(mesh)
     rng = np.random.default_rng(7)
@@ -382,3 +391,99 @@ def test_deform_cache_rejects_wrong_shape():
     cache = DeformCache(_grid(5, 4, seam=False))
     with pytest.raises(ValueError, match="shape"):
         cache.update(np.zeros((3, 3), np.float32))
+
+
+# --------------------------------------------------------------------------------------------
+# Frames that move part of the face
+# --------------------------------------------------------------------------------------------
+
+
+def _moving_parts(mesh: FaceMesh, frames: int = 40) -> list[np.ndarray]:
+    """Welded positions frame by frame: a patch of the mesh swelling and settling (its edge
+    flickering in and out, as tiny offsets round away), a hold, a patch elsewhere, the first
+    patch again, everything moving, and single positions moving."""
+    rng = np.random.default_rng(3)
+    rest = mesh.rest.astype(np.float32)
+    size = np.ptp(rest, axis=0).max()
+
+    def patch(centre: int, radius: float) -> np.ndarray:
+        d = np.linalg.norm(rest - rest[centre], axis=1) / (radius * size)
+        return (np.clip(1.0 - d, 0.0, 1.0) ** 2)[:, None] * rng.standard_normal(3) * 0.05 * size
+
+    first, second = patch(0, 0.3), patch(len(rest) - 1, 0.25)
+    out, weights = [], np.sin(np.linspace(0.1, np.pi - 0.1, frames // 4))
+    for w in weights:
+        flicker = rng.random(len(rest)) < 0.05  # some of the patch stays put this frame
+        out.append(rest + np.where(flicker[:, None], 0.0, w * first).astype(np.float32))
+    out += [out[-1].copy(), out[-1].copy()]  # a held pose: nothing moves
+    out += [rest + (w * second).astype(np.float32) for w in weights]
+    out += [rest + (w * first).astype(np.float32) for w in weights]  # back to the first patch
+    out.append(rest + 0.01 * size * rng.standard_normal(rest.shape).astype(np.float32))
+    for i in (0, len(rest) // 2, len(rest) - 1):
+        single = out[-1].copy()
+        single[i] += 0.02 * size
+        out.append(single)
+    return out
+
+
+@MESHES
+@SMALL_CHUNKS
+def test_a_frame_that_moves_part_of_the_mesh_matches_a_whole_recomputation(
+    make, small_chunks, monkeypatch
+):
+    """The cache redoes only what moved positions reach; the result must be exactly what
+    recomputing the whole frame from scratch gives, whatever moved before."""
+    if small_chunks:
+        _small_chunks(monkeypatch)
+    mesh = make()
+    cache = DeformCache(mesh)
+    recomputed = []
+    for welded in _moving_parts(mesh):
+        with _strict():
+            out = cache.update(welded)
+        np.testing.assert_array_equal(out, DeformCache(mesh).update(welded))
+        recomputed.append(cache.last_recomputed)
+        lo, hi = cache.last_span
+        assert 0 <= lo <= hi <= mesh.n_vertices
+    assert 0 in recomputed  # the held frames redid nothing
+    if mesh.n_vertices > 100:  # small meshes: any patch is most of the mesh
+        assert any(0 < r < mesh.n_vertices for r in recomputed)
+
+
+def test_only_the_reported_span_of_the_buffer_changes():
+    mesh = _grid(30, 20, seam=True)
+    cache = DeformCache(mesh)
+    frames = _moving_parts(mesh, frames=12)
+    before = cache.update(frames[0]).copy()
+    for welded in frames[1:]:
+        after = cache.update(welded)
+        lo, hi = cache.last_span
+        np.testing.assert_array_equal(after[:lo], before[:lo])
+        np.testing.assert_array_equal(after[hi:], before[hi:])
+        before = after.copy()
+
+
+def test_deform_cache_on_the_sample_animation_matches_a_plain_reference(sample):
+    """The sample face through the benchmark's animation (blend, then normals and tangents),
+    against float64 NumPy written the obvious way: the standalone functions and
+    ``rest + Σ w·(pose − rest)``."""
+    from studio.core.poses import PoseBlender
+    from studio.core.timeline import sequence_all_poses
+
+    mesh = sample.mesh
+    timeline = sequence_all_poses([p.name for p in sample.poses], fps=24.0)
+    blender, cache = PoseBlender(mesh.rest, sample.poses), DeformCache(mesh)
+    rest = mesh.rest.astype(np.float64)
+    partial = 0
+    for frame in range(0, timeline.end, 2):
+        weights = timeline.weights_at(frame)
+        welded = rest + sum(w * (sample.pose(name).positions - rest)
+                            for name, w in weights.items())
+        out = cache.update(blender.blend(weights))
+        partial += 0 < cache.last_recomputed < mesh.n_vertices
+        normals, tangents = _reference(mesh, welded)
+        np.testing.assert_allclose(out[:, :3], welded[mesh.weld], atol=1e-6)
+        np.testing.assert_allclose(out[:, 3:6], normals, atol=1e-5)
+        np.testing.assert_allclose(out[:, 6:9], tangents[:, :3], atol=1e-5)
+        np.testing.assert_array_equal(out[:, 9], tangents[:, 3])
+    assert partial > 10  # most frames move one pose's part of the face

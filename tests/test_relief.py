@@ -75,7 +75,8 @@ def test_wrinkle_height_is_a_valley_where_only_the_wrinkled_map_has_it():
 def test_large_maps_give_heights_at_a_fraction_of_their_size_with_every_wrinkle():
     x = np.arange(300)[None, :]
     valley = -np.exp(-0.5 * ((x - 151) / 1.5) ** 2) * np.ones((300, 1))  # 5 texels wide
-    neutral, wrinkled = height_to_normal(0 * valley, bits=16), height_to_normal(valley, 2.0, bits=16)
+    neutral = height_to_normal(0 * valley, bits=16)
+    wrinkled = height_to_normal(valley, 2.0, bits=16)
     full = wrinkle_heights(neutral, [wrinkled])[0]
     small = wrinkle_heights(neutral, [wrinkled], max_size=100)[0]
     assert full.shape == (300, 300) and small.shape == (100, 100)

@@ -10,6 +10,8 @@ EXTRA_AREAS = (32, 64, 128, 256)
 EXTRA_VERTICES = (30000,)
 AREA_MODEL = 2172
 COMPARISON_AREAS = 8  # technique 1 in the vertex comparison
+# wrinkles in depth (issue 10): each relief with both authored techniques, on the area model
+RELIEF_CONFIGS = tuple((t, r) for t in ("t2", "t1") for r in ("parallax", "displace"))
 
 # mean frame time (ms) the thesis reports, for the plots
 THESIS_T1_BY_AREAS = {1: 17.4, 2: 17.9, 4: 19.8, 8: 22.9, 12: 26.3, 16: 29.9}
@@ -22,11 +24,13 @@ class Config:
     technique: str  # flat | none | t1 | t2 | strain
     areas: int  # technique-1 areas (0 for the others)
     vertices: int
+    relief: str = "off"  # off | displace | parallax (RenderSettings.relief)
 
     @property
     def label(self) -> str:
         extra = f", {self.areas} areas" if self.technique == "t1" else ""
-        return f"{self.technique}{extra}, {self.vertices} vertices"
+        relief = f"+{self.relief}" if self.relief != "off" else ""
+        return f"{self.technique}{relief}{extra}, {self.vertices} vertices"
 
 
 def configurations(quick: bool = False) -> list[Config]:
@@ -42,4 +46,6 @@ def configurations(quick: bool = False) -> list[Config]:
                     Config("t1", COMPARISON_AREAS, v), Config("strain", 0, v)]
         if v == AREA_MODEL:
             configs += [Config("t1", a, v) for a in by_areas if a != COMPARISON_AREAS]
+            configs += [Config(t, COMPARISON_AREAS if t == "t1" else 0, v, relief)
+                        for t, relief in RELIEF_CONFIGS]
     return configs

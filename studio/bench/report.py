@@ -17,15 +17,15 @@ from studio.bench.configs import (
 from studio.bench.runner import Result
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std"]
+           "fps_min", "fps_max", "fps_std", "relief"]
 
 
 def table(results: Sequence[Result]) -> str:
-    lines = [f"{'configuration':<34}{'ms':>9}{'fps':>9}{'min':>9}{'max':>9}{'std':>8}"
+    lines = [f"{'configuration':<38}{'ms':>9}{'fps':>9}{'min':>9}{'max':>9}{'std':>8}"
              f"{'deform ms':>11}"]
     for r in results:
         row = r.row()
-        lines.append(f"{r.config.label:<34}{row['mean_ms']:>9.2f}{row['fps_mean']:>9.1f}"
+        lines.append(f"{r.config.label:<38}{row['mean_ms']:>9.2f}{row['fps_mean']:>9.1f}"
                      f"{row['fps_min']:>9.1f}{row['fps_max']:>9.1f}{row['fps_std']:>8.1f}"
                      f"{row['deform_ms']:>11.2f}")
     return "\n".join(lines)
@@ -101,6 +101,7 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
 
 
 def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
+    results = [r for r in results if r.config.relief == "off"]  # reliefs: in the table only
     by_areas = {"ours: t1": [(r.config.areas, float(r.fps.mean())) for r in results
                              if r.config.technique == "t1" and r.config.vertices == AREA_MODEL]}
     for technique in ("none", "flat"):

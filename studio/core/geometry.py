@@ -7,7 +7,8 @@ two faces:
   ``bitangents``) that state the maths plainly and are what the tests check against hand-worked
   values;
 * ``DeformCache``, built once per mesh, which does the same work for a whole frame in a few
-  milliseconds by precomputing every index structure and reusing every buffer.
+  milliseconds by precomputing every index structure and reusing every buffer, and for a frame
+  that moved part of the face (a key pose being animated) only over that part.
 
 Conventions shared by both:
 
@@ -22,6 +23,10 @@ Conventions shared by both:
 """
 
 from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -50,6 +55,8 @@ _CHUNK = 32768
 # Every index the cache gathers with was built in range at construction; np.take's default
 # mode="raise" would also copy its output through a temporary buffer, doubling the cost.
 _NO_CHECK = "clip"
+# 32-byte rows as single items: ``np.put`` scatters them several times faster than row indexing.
+_VOID32 = np.dtype((np.void, 32))
 
 
 # --------------------------------------------------------------------------------------------
@@ -238,7 +245,7 @@ class _GroupPlan:
         row_of[self.order] = np.arange(n_owners)
         cap_by_row = cap[self.order]
 
-        # Per capacity k, a table[row, j] = j-th item of the owner in that row (pad where it has
+        # Per capacity k, a table[j, row] = j-th item of the owner in that row (pad where it has
         # fewer), built only for that group so one vertex of huge valence costs nothing extra.
         sort = np.argsort(owner, kind="stable")
         owner_sorted = owner[sort]
@@ -248,41 +255,99 @@ class _GroupPlan:
         rank = np.arange(len(owner)) - first[owner_sorted]
         cap_sorted = cap[owner_sorted]
 
-        self.chunks: list[tuple[int, int, int, int]] = []  # (row lo, row hi, capacity, offset)
-        pieces: list[Array] = []
-        offset = 0
+        # (first row, row past the last, capacity k, items: (k * n) item j of every row)
+        self.chunks: list[tuple[int, int, int, Array]] = []
+        self._groups: list[tuple[int, int, Array]] = []  # (row lo, row hi, table.T: (k, hi - lo))
+        self._chunk = _CHUNK if chunk is None else chunk
         for k in np.unique(cap_by_row).tolist():
             if k == 0:
                 continue  # owners without items: their rows stay zero
             lo, hi = np.searchsorted(cap_by_row, [k, k + 1]).tolist()
             mine = cap_sorted == k
-            table = np.full((hi - lo, k), pad, dtype=np.intp)
-            table[row_of[owner_sorted[mine]] - lo, rank[mine]] = item_sorted[mine]
-            step = max(1, (_CHUNK if chunk is None else chunk) // k)
-            for start in range(lo, hi, step):
-                stop = min(hi, start + step)
-                block = table[start - lo : stop - lo].T  # (k, n): item j of every owner
-                pieces.append(block.ravel())
-                self.chunks.append((start, stop, k, offset))
-                offset += block.size
-        self.index = np.concatenate(pieces) if pieces else np.zeros(0, dtype=np.intp)
-        self.scratch_rows = max((k * (hi - lo) for lo, hi, k, _ in self.chunks), default=0)
+            table = np.full((k, hi - lo), pad, dtype=np.intp)  # item j of the owner in each row
+            table[rank[mine], row_of[owner_sorted[mine]] - lo] = item_sorted[mine]
+            self._groups.append((lo, hi, table))
+            for start in range(lo, hi, self._step(k)):
+                stop = min(hi, start + self._step(k))
+                self.chunks.append((start, stop, k, table[:, start - lo : stop - lo].ravel()))
+        self.scratch_rows = max((len(items) for *_, items in self.chunks), default=0)
 
-    def reduce(self, jobs: list[tuple[Array, Array, Array]]) -> None:
-        """For each ``(source, scratch, out)``: ``out[row] = Σ source[item]`` over the row's items.
+    def _step(self, k: int) -> int:
+        """Rows per chunk at capacity k: keeps the gathered rows in cache."""
+        return max(1, self._chunk // k)
+
+    def subset(self, rows: Array) -> list[tuple[int, int, int, Array]]:
+        """Chunks like ``chunks`` for some rows only (ascending): the i-th row summed is
+        ``rows[i]``. Gathering the tables costs about what a sum does, so keep and reuse them."""
+        chunks = []
+        for lo, hi, table in self._groups:
+            k = len(table)
+            a, b = np.searchsorted(rows, (lo, hi)).tolist()
+            for start in range(a, b, self._step(k)):
+                stop = min(b, start + self._step(k))
+                items = np.take(table, rows[start:stop] - lo, axis=1, mode=_NO_CHECK)
+                chunks.append((start, stop, k, items.ravel()))
+        return chunks
+
+    def reduce(self, jobs: list[tuple[Array, Array, Array]],
+               chunks: list[tuple[int, int, int, Array]] | None = None) -> None:
+        """For each ``(source, scratch, out)``: ``out[row] = Σ source[item]`` over the row's items
+        (over ``chunks`` from ``subset``: ``out[i]`` for the i-th row of the subset).
 
         ``source`` has one zero row past the items (the padding item); ``scratch`` holds at least
         ``scratch_rows`` rows; rows of ``out`` whose owner has no items are left untouched.
         """
         views = [(_row_view(src), _row_view(scr), scr, out) for src, scr, out in jobs]
-        index = self.index
-        for lo, hi, k, offset in self.chunks:
-            m = k * (hi - lo)
-            ix = index[offset : offset + m]
+        for start, stop, k, items in self.chunks if chunks is None else chunks:
+            m = len(items)
             for src_v, scr_v, scr, out in views:
-                np.take(src_v, ix, axis=0, out=scr_v[:m], mode=_NO_CHECK)
-                block = scr[:m].reshape((k, hi - lo, *scr.shape[1:]))
-                np.add.reduce(block, axis=0, out=out[lo:hi])
+                np.take(src_v, items, axis=0, out=scr_v[:m], mode=_NO_CHECK)
+                block = scr[:m].reshape((k, stop - start, *scr.shape[1:]))
+                np.add.reduce(block, axis=0, out=out[start:stop])
+
+
+def _shaped(buffer: Array, *shape: int) -> Array:
+    """The first ``prod(shape)`` items of a flat buffer as a contiguous array of that shape, so
+    one preallocated buffer serves every size of a frame's work."""
+    return buffer[: math.prod(shape)].reshape(shape)
+
+
+@dataclass(eq=False)
+class _Region:
+    """The part of a mesh some moved positions reach, with every index its recomputation
+    gathers: built for a new set of moved positions, reused for every frame whose moved
+    positions it covers (an animated pose moves the same vertices frame after frame). ``rows``
+    None: recompute everything."""
+
+    changed: Array  # (W,) bool: the moved positions it was built for
+    rows: Array | None  # plan rows (ascending) of every render vertex to recompute
+    size: int = 0  # how many positions ``changed`` holds
+    faces: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # triangles to redo
+    wtri: Array = field(default_factory=lambda: np.zeros((3, 0), np.intp))  # their corners
+    coef: Array = field(default_factory=lambda: np.zeros((4, 0), np.float32))  # their a, b, c, d
+    chunks: list = field(default_factory=list)  # _GroupPlan.subset(rows)
+    welded: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # position of each row
+    vertices: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # vertex of each row
+    split: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # which rows: seam copies
+    split_source: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # their welded sums
+    span: tuple[int, int] = (0, 0)  # first render vertex recomputed, and one past the last
+
+    NOTHING: ClassVar[_Region]
+
+
+_Region.NOTHING = _Region(np.zeros(0, bool), np.zeros(0, np.intp))
+
+
+# A frame recomputes only the render vertices its moved positions reach while they are fewer than
+# this fraction of the mesh; past it, everything (a subset costs more per vertex: it is gathered
+# and scattered; about even at 80 %).
+_PARTIAL = 0.75
+# Regions kept for reuse (an animation cycling through this many poses builds each once); the
+# fraction of a frame's moved positions a region may miss and still be grown to cover them; and
+# the least fraction of a region a frame must move for the region to serve it.
+_REGIONS = 6
+_FLICKER = 0.2
+_SLACK = 0.5
 
 
 class DeformCache:
@@ -292,13 +357,16 @@ class DeformCache:
     ``(V, 10) float32`` per render vertex ``[x, y, z, nx, ny, nz, tx, ty, tz, w]``. Normals are
     summed over the welded triangles (area-weighted) so split seam vertices share one normal;
     tangents are summed over render vertices (they depend on the UVs) and orthogonalised against
-    that welded normal. The returned array is reused by the next call; copy it to keep it.
+    that welded normal. The returned array is reused by later calls, which also read it back:
+    copy it to keep it, never write to it.
 
-    How it stays fast: per-triangle maths runs on contiguous float32 component arrays; each
-    render vertex's sum over its triangles is a gather of 32-byte rows plus dense additions
-    (``_GroupPlan``); every temporary is preallocated; if the plan had to reorder vertices, the
-    per-vertex stage runs in its order and one gather of 40-byte rows puts the buffer back in
-    render order.
+    How it stays fast: per-triangle maths runs on contiguous float32 component arrays, with the
+    UV factors of the tangents (constant per mesh) computed once; each render vertex's sum over
+    its triangles is a gather of 32-byte rows plus dense additions (``_GroupPlan``); every
+    temporary is preallocated. And a frame redoes only what its moved positions reach: key poses
+    move part of a face, so the triangles with a moved corner and the render vertices of their
+    welded corners are recomputed, the rest of the buffer is kept from the previous frame
+    (``last_recomputed`` says how many vertices a frame redid).
     """
 
     def __init__(self, mesh: FaceMesh) -> None:
@@ -309,23 +377,29 @@ class DeformCache:
         n_w = mesh.n_welded
         self.n_vertices = n_v
         self.n_welded = n_w
+        self.last_recomputed = 0  # render vertices the last update recomputed
+        self.last_span = (0, 0)  # the range of render vertices it changed: upload just these
         f32 = np.float32
         weld = mesh.weld.astype(np.intp)
 
         # Welded corners of every triangle, component-major for three 1-D gathers per frame.
         self._wtri = np.ascontiguousarray(weld[tri].T)  # (3, F)
-        self._pos_t = np.empty((3, n_w), f32)
-        self._corner = np.empty((3, 3, n_f), f32)  # [component, corner, face]
-        self._e1 = np.empty((3, n_f), f32)
-        self._e2 = np.empty((3, n_f), f32)
-        self._tmp_f = np.empty((3, n_f), f32)
-        self._tmp_f1 = np.empty(n_f, f32)
+        self._pos_t = np.empty((3, n_w), f32)  # this frame's positions, component-major
+        self._prev_t = np.empty((3, n_w), f32)  # the previous frame's (the buffers swap)
+        self._valid = False  # whether the buffers hold a whole frame to build on
         self._coef = np.stack(_uv_coefficients(mesh.uvs, tri)).astype(f32)  # (4, F): a, b, c, d
+        # Per-face work, flat so a frame that redoes some faces uses a prefix of each buffer.
+        self._corner = np.empty(9 * n_f, f32)  # [component, corner, face]
+        self._e1 = np.empty(3 * n_f, f32)
+        self._e2 = np.empty(3 * n_f, f32)
+        self._tmp_f = np.empty(3 * n_f, f32)
+        self._tmp_f1 = np.empty(n_f, f32)
 
         # Per face [cross xyz, T xyz, Bx, By] (32-byte rows) and Bz; the extra last row is the
         # plan's always-zero padding item.
         self._face8 = np.zeros((n_f + 1, 8), f32)
         self._face_z = np.zeros(n_f + 1, f32)
+        self._face8_void = self._face8.view(_VOID32).reshape(n_f + 1)
 
         # Sum faces into render vertices.
         self._plan = plan = _GroupPlan(tri.ravel(), np.repeat(np.arange(n_f), 3), n_v, pad=n_f)
@@ -333,12 +407,13 @@ class DeformCache:
         self._scratch8 = np.empty((plan.scratch_rows, 8), f32)
         self._scratch_z = np.empty(plan.scratch_rows, f32)
         self._sums8 = np.zeros((n_v + 1, 8), f32)  # plan order; last row zero (padding item)
+        self._sums8_void = self._sums8.view(_VOID32).reshape(n_v + 1)
         self._sums_z = np.zeros(n_v, f32)
 
         # Welded normal sums: a render vertex's own sum unless a seam split its position; only
         # the split ones (usually a few percent) are re-summed over all their copies.
         identity_weld = n_v == n_w and np.array_equal(weld, np.arange(n_v))
-        weld_of_row = weld[order]
+        self._weld_of_row = weld_of_row = weld[order]
         copies = np.bincount(weld_of_row, minlength=n_w)
         seam_rows = np.flatnonzero(copies[weld_of_row] > 1)
         self._seams = len(seam_rows) > 0
@@ -352,25 +427,42 @@ class DeformCache:
             self._seam_rows = seam_rows
             self._seam_source = wrow[compact.reshape(-1)]  # seam row -> its welded sum's row
             self._expanded = np.empty((len(seam_rows), 8), f32)
+            self._wsum_of_row = np.full(n_v, -1, dtype=np.intp)  # the same for any row, or -1
+            self._wsum_of_row[seam_rows] = self._seam_source
 
         # Per-vertex stage, in plan order, on contiguous component arrays.
         self._pos_index = None if (plan.identity and identity_weld) else weld_of_row
-        self._n = np.empty((3, n_v), f32)
-        self._t = np.empty((3, n_v), f32)
-        self._b = np.empty((3, n_v), f32)
+        self._n = np.empty(3 * n_v, f32)
+        self._t = np.empty(3 * n_v, f32)
+        self._b = np.empty(3 * n_v, f32)
         self._v1 = np.empty(n_v, f32)
         self._v2 = np.empty(n_v, f32)
         self._v3 = np.empty(n_v, f32)
         self._mask = np.empty(n_v, dtype=bool)
         self._out = np.empty((n_v, 10), f32)  # render order (returned)
-        if plan.identity:
-            self._row = self._out
-        else:
-            self._row = np.empty((n_v, 10), f32)  # plan order
-            self._row_void = self._row.view(np.dtype((np.void, 40))).reshape(n_v)
-            self._out_void = self._out.view(np.dtype((np.void, 40))).reshape(n_v)
-            self._row_of_vertex = np.empty(n_v, dtype=np.intp)
-            self._row_of_vertex[order] = np.arange(n_v)
+        self._out_void = self._out.view(np.dtype((np.void, 40))).reshape(n_v)
+        self._row = self._out if plan.identity else np.empty((n_v, 10), f32)  # plan order
+        self._row_void = self._row.view(np.dtype((np.void, 40))).reshape(n_v)
+        self._row_of_vertex = np.empty(n_v, dtype=np.intp)
+        self._row_of_vertex[order] = np.arange(n_v)
+
+        # What a frame that moved only some positions needs.
+        self._moved = np.empty((3, n_w), dtype=bool)
+        self._changed = np.empty(n_w, dtype=bool)
+        self._face_hit = np.empty((3, n_f), dtype=bool)
+        self._face_mask = np.empty(n_f, dtype=bool)
+        self._touched = np.empty(n_w, dtype=bool)
+        self._row_mask = np.empty(n_v, dtype=bool)
+        # a moved position no triangle uses is left to the whole-frame path
+        self._faceless = np.bincount(self._wtri.ravel(), minlength=n_w) == 0
+        self._faceless_any = bool(self._faceless.any())
+        self._outside = np.empty(n_w, dtype=bool)
+        self._regions: list[_Region] = []  # most recently used first
+        self._sub_face8 = np.empty((n_f, 8), f32)
+        self._sub_face_z = np.empty(n_f, f32)
+        self._sub_sums8 = np.empty((n_v, 8), f32)
+        self._sub_sums_z = np.empty(n_v, f32)
+        self._sub_row = np.empty((n_v, 10), f32)
 
     @property
     def buffer(self) -> Array:
@@ -378,34 +470,32 @@ class DeformCache:
         return self._out
 
     def update(self, positions_welded: Array) -> Array:
-        """Recompute the interleaved ``(V, 10)`` float32 buffer for one frame's welded positions."""
+        """The interleaved ``(V, 10)`` float32 buffer for one frame's welded positions."""
         p = np.asarray(positions_welded)
         if p.shape != (self.n_welded, 3):
             raise ValueError(f"expected positions of shape ({self.n_welded}, 3), got {p.shape}")
-        pos_t = self._pos_t
-        pos_t[...] = p.T
+        self._pos_t, self._prev_t = self._prev_t, self._pos_t
+        self._pos_t[...] = p.T
+        region = self._moved_region() if self._valid else None
+        if region is None or region.rows is None:
+            self._update_all()
+            self._valid = True
+            self.last_recomputed, self.last_span = self.n_vertices, (0, self.n_vertices)
+        else:
+            if len(region.rows):
+                self._update_some(region)
+            self.last_recomputed, self.last_span = len(region.rows), region.span
+        return self._out
 
-        # Per-triangle edges, cross product (Eq. 4.1) and Lengyel T and B (Eq. 4.8).
-        corner = self._corner
+    # --- a whole frame ----------------------------------------------------------------------
+
+    def _update_all(self) -> None:
+        pos_t = self._pos_t
+        n_f = len(self._face_z) - 1
+        corner = _shaped(self._corner, 3, 3, n_f)
         for comp in range(3):
             np.take(pos_t[comp], self._wtri, out=corner[comp], mode=_NO_CHECK)
-        e1, e2, tmp, tmp1 = self._e1, self._e2, self._tmp_f, self._tmp_f1
-        np.subtract(corner[:, 1], corner[:, 0], out=e1)
-        np.subtract(corner[:, 2], corner[:, 0], out=e2)
-        face = self._face8[:-1]
-        for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-            np.multiply(e1[j], e2[k], out=tmp1)
-            np.multiply(e1[k], e2[j], out=tmp[0])
-            np.subtract(tmp1, tmp[0], out=face[:, i])
-        a, b, c, d = self._coef
-        np.multiply(e1, a, out=tmp)
-        for comp in range(3):
-            np.multiply(e2[comp], b, out=tmp1)
-            np.add(tmp[comp], tmp1, out=face[:, 3 + comp])
-        np.multiply(e1, c, out=tmp)
-        for comp in range(3):
-            np.multiply(e2[comp], d, out=tmp1)
-            np.add(tmp[comp], tmp1, out=face[:, 6 + comp] if comp < 2 else self._face_z[:-1])
+        self._face_terms(corner, self._coef, self._face8[:-1], self._face_z[:-1])
 
         # Sum per render vertex (plan order), then per welded vertex for the normals.
         sums8 = self._sums8
@@ -415,7 +505,8 @@ class DeformCache:
                 (self._face_z, self._scratch_z, self._sums_z),
             ]
         )
-        n, t, bt = self._n, self._t, self._b
+        n_v = self.n_vertices
+        n, t, bt = (_shaped(x, 3, n_v) for x in (self._n, self._t, self._b))
         n[...] = sums8[:-1, :3].T
         if self._seams:
             self._wplan.reduce([(sums8, self._wscratch, self._wsums)])
@@ -427,7 +518,159 @@ class DeformCache:
         bt[2] = self._sums_z
 
         row = self._row
-        v1, v2, v3, mask = self._v1, self._v2, self._v3, self._mask
+        self._vertex_terms(n, t, bt, row)
+        v1 = self._v1
+        for comp in range(3):
+            if self._pos_index is None:
+                row[:, comp] = pos_t[comp]
+            else:
+                np.take(pos_t[comp], self._pos_index, out=v1, mode=_NO_CHECK)
+                row[:, comp] = v1
+        # If the plan reordered vertices, one 40-byte-row gather restores the render order.
+        if row is not self._out:
+            np.take(self._row_void, self._row_of_vertex, out=self._out_void, mode=_NO_CHECK)
+
+    # --- part of a frame --------------------------------------------------------------------
+
+    def _moved_region(self) -> _Region | None:
+        """What the positions that moved since the last frame reach (None: recompute all).
+
+        A region is reused for any frame whose moved positions it covers without being much
+        larger. The set a pose moves flickers a little from frame to frame (tiny offsets round
+        away at some weights), so a region that nearly covers a frame grows to cover it rather
+        than being rebuilt for it.
+        """
+        moved, changed, outside = self._moved, self._changed, self._outside
+        np.not_equal(self._pos_t, self._prev_t, out=moved)
+        np.logical_or(moved[0], moved[1], out=changed)
+        changed |= moved[2]
+        count = np.count_nonzero(changed)
+        if count == 0:
+            return _Region.NOTHING
+        if count > _PARTIAL * self.n_welded:
+            return None
+        regions = self._regions
+        for i, region in enumerate(regions):
+            if count < _SLACK * region.size:
+                continue
+            np.greater(changed, region.changed, out=outside)  # moved but not covered
+            if not outside.any():
+                regions.insert(0, regions.pop(i))
+                return region
+        if self._faceless_any and (changed & self._faceless).any():
+            return None
+        cover = changed.copy()
+        if regions:
+            np.greater(changed, regions[0].changed, out=outside)
+            missed = np.count_nonzero(outside)
+            if missed <= _FLICKER * count and count >= _SLACK * (regions[0].size + missed):
+                cover |= regions.pop(0).changed
+        regions.insert(0, self._build_region(cover))
+        del regions[_REGIONS:]
+        return regions[0]
+
+    def _build_region(self, changed: Array) -> _Region:
+        """The triangles with a corner in ``changed`` and the render vertices they reach."""
+        size = int(np.count_nonzero(changed))
+        everything = _Region(changed, None, size)
+        if size > _PARTIAL * self.n_welded:
+            return everything
+        hit, face_mask = self._face_hit, self._face_mask
+        np.take(changed, self._wtri, out=hit, mode=_NO_CHECK)
+        np.logical_or(hit[0], hit[1], out=face_mask)
+        face_mask |= hit[2]
+        faces = np.flatnonzero(face_mask)
+        if len(faces) > _PARTIAL * len(face_mask):
+            return everything
+        # every copy of every corner of those triangles: their sums, or their welded normals,
+        # take in a changed triangle
+        wtri = np.take(self._wtri, faces, axis=1, mode=_NO_CHECK)
+        touched = self._touched
+        np.copyto(touched, changed)
+        touched[wtri.ravel()] = True
+        np.take(touched, self._weld_of_row, out=self._row_mask, mode=_NO_CHECK)
+        rows = np.flatnonzero(self._row_mask)
+        if len(rows) > _PARTIAL * self.n_vertices:
+            return everything
+        vertices = self._plan.order[rows]
+        region = _Region(changed, rows, size, faces, wtri,
+                         np.take(self._coef, faces, axis=1, mode=_NO_CHECK),
+                         self._plan.subset(rows), self._weld_of_row[rows], vertices)
+        if len(vertices):
+            region.span = (int(vertices.min()), int(vertices.max()) + 1)
+        if self._seams:
+            source = self._wsum_of_row[rows]
+            region.split = np.flatnonzero(source >= 0)
+            region.split_source = source[region.split]
+        return region
+
+    def _update_some(self, region: _Region) -> None:
+        """Recompute the region's triangles and render vertices; keep the rest of the buffer."""
+        pos_t = self._pos_t
+        n_f, m = len(region.faces), len(region.rows)
+        corner = _shaped(self._corner, 3, 3, n_f)
+        for comp in range(3):
+            np.take(pos_t[comp], region.wtri, out=corner[comp], mode=_NO_CHECK)
+        face8, face_z = self._sub_face8[:n_f], self._sub_face_z[:n_f]
+        self._face_terms(corner, region.coef, face8, face_z)
+        np.put(self._face8_void, region.faces, face8.view(_VOID32).reshape(n_f))
+        self._face_z[region.faces] = face_z
+
+        sums8, sums_z = self._sub_sums8[:m], self._sub_sums_z[:m]
+        sums8[...] = 0.0  # rows of vertices without triangles are not written
+        sums_z[...] = 0.0
+        self._plan.reduce(
+            [(self._face8, self._scratch8, sums8), (self._face_z, self._scratch_z, sums_z)],
+            region.chunks,
+        )
+        n, t, bt = (_shaped(x, 3, m) for x in (self._n, self._t, self._b))
+        n[...] = sums8[:, :3].T
+        if len(region.split):  # welded sums read every copy's sum: keep those current
+            split = region.split
+            np.put(self._sums8_void, region.rows[split], sums8.view(_VOID32).reshape(m)[split])
+            self._wplan.reduce([(self._sums8, self._wscratch, self._wsums)])
+            n[:, split] = self._wsums[region.split_source, :3].T
+        t[...] = sums8[:, 3:6].T
+        bt[:2] = sums8[:, 6:8].T
+        bt[2] = sums_z
+
+        row = self._sub_row[:m]
+        self._vertex_terms(n, t, bt, row)
+        v1 = self._v1[:m]
+        for comp in range(3):
+            np.take(pos_t[comp], region.welded, out=v1, mode=_NO_CHECK)
+            row[:, comp] = v1
+        np.put(self._out_void, region.vertices, row.view(self._out_void.dtype).reshape(m))
+
+    # --- the maths, for a whole frame or part of one ----------------------------------------
+
+    def _face_terms(self, corner: Array, coef: Array, face8: Array, face_z: Array) -> None:
+        """Per triangle: edges, cross product (Eq. 4.1) and Lengyel's T and B (Eq. 4.8), from
+        ``corner[component, corner, face]`` into ``face8`` rows and ``face_z`` (B's z)."""
+        n_f = corner.shape[2]
+        e1, e2, tmp = (_shaped(x, 3, n_f) for x in (self._e1, self._e2, self._tmp_f))
+        tmp1 = self._tmp_f1[:n_f]
+        np.subtract(corner[:, 1], corner[:, 0], out=e1)
+        np.subtract(corner[:, 2], corner[:, 0], out=e2)
+        for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+            np.multiply(e1[j], e2[k], out=tmp1)
+            np.multiply(e1[k], e2[j], out=tmp[0])
+            np.subtract(tmp1, tmp[0], out=face8[:, i])
+        a, b, c, d = coef
+        np.multiply(e1, a, out=tmp)
+        for comp in range(3):
+            np.multiply(e2[comp], b, out=tmp1)
+            np.add(tmp[comp], tmp1, out=face8[:, 3 + comp])
+        np.multiply(e1, c, out=tmp)
+        for comp in range(3):
+            np.multiply(e2[comp], d, out=tmp1)
+            np.add(tmp[comp], tmp1, out=face8[:, 6 + comp] if comp < 2 else face_z)
+
+    def _vertex_terms(self, n: Array, t: Array, bt: Array, row: Array) -> None:
+        """From summed ``(3, m)`` N, T, B (changed in place): unit normal, orthonormal tangent
+        and handedness into columns 3–9 of ``row``."""
+        m = n.shape[1]
+        v1, v2, v3, mask = self._v1[:m], self._v2[:m], self._v3[:m], self._mask[:m]
         # Normalise the normals; zero sums fall back to (0, 0, 1).
         _dot(n, n, v1, v2)
         np.less_equal(v1, _TINY32, out=mask)
@@ -461,19 +704,9 @@ class DeformCache:
         if mask.any():
             t[:, mask] = _perpendicular(n[:, mask].T).T
             row[mask, 9] = 1.0
-
-        # Interleave; if the plan reordered vertices, one 40-byte-row gather restores the order.
         for comp in range(3):
-            if self._pos_index is None:
-                row[:, comp] = pos_t[comp]
-            else:
-                np.take(pos_t[comp], self._pos_index, out=v1, mode=_NO_CHECK)
-                row[:, comp] = v1
             row[:, 3 + comp] = n[comp]
             row[:, 6 + comp] = t[comp]
-        if row is not self._out:
-            np.take(self._row_void, self._row_of_vertex, out=self._out_void, mode=_NO_CHECK)
-        return self._out
 
 
 def _dot(x: Array, y: Array, out: Array, tmp: Array) -> Array:

@@ -64,28 +64,39 @@ def ease(fraction: float, mode: str) -> float:
     raise ValueError(f"unknown interpolation mode '{mode}'")
 
 
+# Up to this many poses of non-zero weight are added one by one (a pass over the positions each);
+# more take one matrix product over every pose. An animation moves one or two poses at a time.
+_ADD_POSES = 3
+
+
 class PoseBlender:
-    """Blends key poses by weight with one matrix product and no per-frame allocation."""
+    """Blends key poses by weight without per-frame allocation, at a cost that follows the poses
+    in use: only poses of non-zero weight are read."""
 
     def __init__(self, rest: Array, poses: Sequence[KeyPose]) -> None:
         self.rest = np.ascontiguousarray(rest, dtype=np.float32)
         self.names = [p.name for p in poses]
+        self._index: dict[str, int] = {}
+        for k, name in enumerate(self.names):
+            self._index.setdefault(name, k)
         n = len(poses)
+        self._flat_rest = self.rest.ravel()
         self._deltas = np.empty((n, self.rest.size), dtype=np.float32)
         for k, pose in enumerate(poses):
             self._deltas[k] = (pose.positions - self.rest).ravel()
         self._weights = np.zeros(n, dtype=np.float32)
         self._out = np.empty(self.rest.size, dtype=np.float32)
+        self._term = np.empty(self.rest.size, dtype=np.float32)
 
     def weights_vector(self, weights: Mapping[str, float]) -> Array:
         self._weights[:] = 0.0
         for name, w in weights.items():
             if name == NEUTRAL:
                 continue
-            try:
-                self._weights[self.names.index(name)] = w
-            except ValueError:
-                raise KeyError(name) from None
+            k = self._index.get(name)
+            if k is None:
+                raise KeyError(name)
+            self._weights[k] = w
         return self._weights
 
     def blend(self, weights: Mapping[str, float]) -> Array:
@@ -94,12 +105,21 @@ class PoseBlender:
         The returned array is reused by the next call; copy it to keep it.
         """
         w = self.weights_vector(weights)
-        if not w.any():
-            np.copyto(self._out, self.rest.ravel())
+        out = self._out
+        active = np.flatnonzero(w)
+        if len(active) == 0:
+            np.copyto(out, self._flat_rest)
+        elif len(active) > _ADD_POSES:
+            np.matmul(w, self._deltas, out=out)
+            out += self._flat_rest
         else:
-            np.matmul(w, self._deltas, out=self._out)
-            self._out += self.rest.ravel()
-        return self._out.reshape(self.rest.shape)
+            first, *others = active.tolist()
+            np.multiply(self._deltas[first], w[first], out=out)
+            for k in others:
+                np.multiply(self._deltas[k], w[k], out=self._term)
+                out += self._term
+            out += self._flat_rest
+        return out.reshape(self.rest.shape)
 
 
 def interpolate(a: Array, b: Array, fraction: float, mode: str = "linear") -> Array:

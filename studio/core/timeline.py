@@ -7,12 +7,13 @@ constant (hold until the next key).
 
 from __future__ import annotations
 
+import bisect
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from studio.core.poses import parke_cosine
+from studio.core.poses import ease, parke_cosine
 
 INTERPOLATIONS = ("linear", "cosine", "smooth", "constant")
 
@@ -62,7 +63,19 @@ class Track:
         return np.where(frames < times[0], values[0], out)
 
     def value_at(self, frame: float) -> float:
-        return float(self.values_at([frame])[0])
+        """One frame's weight, as ``values_at`` gives it, in plain Python: playback asks for
+        one frame per track, where numpy's per-call overhead would dominate."""
+        keys = self.keys
+        if not keys:
+            return 0.0
+        frame = float(frame)
+        if frame < keys[0].frame:
+            return float(keys[0].value)
+        i = max(bisect.bisect_right(keys, frame, key=lambda k: k.frame) - 1, 0)
+        a, b = keys[i], keys[min(i + 1, len(keys) - 1)]
+        span = b.frame - a.frame
+        f = min(max((frame - a.frame) / span, 0.0), 1.0) if span > 0 else 0.0
+        return float(a.value + ease(f, a.interpolation) * (b.value - a.value))
 
 
 @dataclass

@@ -395,7 +395,9 @@ class FaceRenderer:
             start = time.perf_counter()
             attributes = self._deform.update(self._positions)
             self.last_deform_ms = (time.perf_counter() - start) * 1000.0
-            self._dynamic.write(attributes)
+            lo, hi = self._deform.last_span  # only the render vertices this pose moved
+            if hi > lo:
+                self._dynamic.write(attributes[lo:hi], offset=lo * attributes.strides[0])
             self._geometry_dirty = False
         ctx = self.ctx
         # set every piece of state the passes rely on: the viewport's overlays may leave any on

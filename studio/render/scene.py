@@ -28,6 +28,7 @@ class ProjectScene:
         self.renderer.set_mesh(project.mesh)
         self.renderer.set_skin(project.skin_weights())
         self.reload_wdv()
+        self._posed: dict[str, float] | None = None  # the weights the renderer's pose shows
         self.set_pose_weights(self.weights)
 
     def reload_textures(self) -> None:
@@ -54,8 +55,13 @@ class ProjectScene:
         slots = wdv.pack_slots(self.project.mesh.n_welded, self.project.textures.map_index)
         self.renderer.set_wdv(slots, wdv.expression_factor, wdv.scale_free)
 
-    def set_pose_weights(self, weights: Mapping[str, float]) -> None:
-        """Deform the face to these key-pose weights; linked technique-1 areas follow."""
+    def set_pose_weights(self, weights: Mapping[str, float]) -> bool:
+        """Deform the face to these key-pose weights; linked technique-1 areas follow. The same
+        weights again (a held pose) deform and upload nothing; returns whether the pose changed."""
         self.weights = {k: float(v) for k, v in weights.items() if k in self.blender.names}
-        self.renderer.set_positions(self.blender.blend(self.weights))
+        changed = self.weights != self._posed
+        if changed:
+            self.renderer.set_positions(self.blender.blend(self.weights))
+            self._posed = self.weights
         self.reload_activations()
+        return changed
