@@ -58,7 +58,7 @@ def load_project_or_sample(path: str | None, vertices: int | None):
 
 # Each command lives in studio/commands/<name>.py with ``add_parser(subparsers)`` that sets
 # ``run`` (a function of the parsed arguments returning the exit code).
-COMMANDS = ("render", "sample", "bench", "new", "export")
+COMMANDS = ("render", "sample", "bench", "new", "export", "bake")
 
 
 def build_parser() -> argparse.ArgumentParser:

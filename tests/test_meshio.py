@@ -353,3 +353,160 @@ def test_large_obj_loads(tmp_path: Path):
     assert mesh.n_triangles == 2 * (n - 1) ** 2
     np.testing.assert_array_equal(mesh.weld, np.arange(n * n))
     np.testing.assert_array_equal(mesh.triangles[0], [0, 1, n + 1])
+
+
+# --------------------------------------------------------------------------------------------
+# Objects, groups and materials: keeping parts, and marking parts as not face
+# --------------------------------------------------------------------------------------------
+
+# A face (two quads, material "skin", a UV seam along v2–v5) and an eye (a triangle, group
+# "eyes", material "eye") sharing vertex 5 with the skin, as one OBJ. Quads, two materials, a
+# seam: what an artist's export looks like.
+PARTS_OBJ = """\
+mtllib head.mtl
+o Head
+v 0 0 0
+v 1 0 0
+v 2 0 0
+v 0 1 0
+v 1 1 0
+v 2 1 0
+v 1 2 0
+v 2 2 0
+vt 0 0
+vt 0.5 0
+vt 0 0.5
+vt 0.5 0.5
+vt 0.6 0
+vt 1 0
+vt 0.6 0.5
+vt 1 0.5
+vt 0.5 1
+vt 1 1
+g skin
+usemtl skin
+f 1/1 2/2 5/4 4/3
+f 2/5 3/6 6/8 5/7
+g eyes
+usemtl eye
+f 5/7 6/8 8/10
+f 5/7 8/10 7/9
+"""
+
+
+def _parts(tmp_path: Path, text: str = PARTS_OBJ, name: str = "head.obj") -> Path:
+    return _write(tmp_path / name, text)
+
+
+def _moved(text: str, dz: float = 1.0) -> str:
+    """The same OBJ with every vertex raised by ``dz`` (a key pose)."""
+    lines = []
+    for line in text.splitlines():
+        if line.startswith("v "):
+            x, y, z = (float(c) for c in line.split()[1:])
+            line = f"v {x} {y} {z + dz}"
+        lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
+def test_obj_groups_lists_objects_groups_and_materials_with_face_counts(tmp_path: Path):
+    from studio.core.meshio import ObjGroup, obj_groups
+
+    assert obj_groups(_parts(tmp_path)) == [
+        ObjGroup("object", "Head", 4),
+        ObjGroup("group", "skin", 2),
+        ObjGroup("group", "eyes", 2),
+        ObjGroup("material", "skin", 2),
+        ObjGroup("material", "eye", 2),
+    ]
+    # Faces before any g/usemtl are OBJ's "default" group and "(no material)".
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nusemtl red\nf 1/1 3/1 2/1\n"
+    names = [(g.name, g.faces) for g in obj_groups(_write(tmp_path / "two.obj", text))]
+    assert names == [("(no material)", 1), ("red", 1)]
+
+
+def test_keeping_some_parts_drops_their_faces_and_unused_vertices(tmp_path: Path):
+    path = _parts(tmp_path)
+    whole = load_mesh(path)
+    assert whole.n_welded == 8 and whole.n_triangles == 6
+    for keep, kind in ((["skin"], None), (["skin"], "material"), (["skin"], "group")):
+        mesh = load_mesh(path, keep=keep, kind=kind)
+        # v7 and v8 belong to the eye only; v5 and v6 are shared with the skin and stay.
+        np.testing.assert_array_equal(mesh.rest[:, :2], [[0, 0], [1, 0], [2, 0], [0, 1],
+                                                         [1, 1], [2, 1]])
+        assert mesh.n_triangles == 4
+        assert mesh.weld.max() == 5 and len(np.unique(mesh.weld)) == 6
+    # The seam survives the cut: v2 and v5 still have two UVs each.
+    mesh = load_mesh(path, keep=["skin"])
+    assert list(mesh.weld).count(1) == 2 and list(mesh.weld).count(4) == 2
+    eye = load_mesh(path, keep=["eyes"])
+    assert eye.n_welded == 4 and eye.n_triangles == 2
+    # Any of a face's names will do: the skin group or the eye material is everything.
+    assert load_mesh(path, keep=["skin", "eye"]).n_triangles == 6
+    assert load_mesh(path, keep=["Head"]).n_triangles == 6
+
+
+def test_key_poses_are_cut_like_the_neutral_mesh(tmp_path: Path):
+    path = _parts(tmp_path)
+    mesh = load_mesh(path, keep=["skin"])
+    # A pose of the whole file: cut by name to the skin.
+    pose = load_pose(_parts(tmp_path, _moved(PARTS_OBJ), "up.obj"), mesh)
+    np.testing.assert_array_equal(pose.positions, mesh.rest + np.float32([0, 0, 1]))
+    # A pose exported without the eye at all (fewer v): fits the cut neutral mesh.
+    skin_only = PARTS_OBJ.split("g eyes")[0].replace("v 1 2 0\nv 2 2 0\n", "")
+    pose = load_pose(_parts(tmp_path, _moved(skin_only, 2.0), "skin_only.obj"), mesh)
+    np.testing.assert_array_equal(pose.positions[:, 2], 2.0)
+    # A pose that names no parts (but has the same faces): cut by face number.
+    bare = "\n".join(ln for ln in _moved(PARTS_OBJ, 3.0).splitlines()
+                     if ln.split()[:1] not in (["g"], ["o"], ["usemtl"]))
+    pose = load_pose(_parts(tmp_path, bare, "bare.obj"), mesh)
+    np.testing.assert_array_equal(pose.positions[:, 2], 3.0)
+
+
+def test_a_pose_whose_kept_part_differs_names_the_file_and_face(tmp_path: Path):
+    mesh = load_mesh(_parts(tmp_path), keep=["skin"])
+    changed = PARTS_OBJ.replace("f 2/5 3/6 6/8 5/7", "f 2/5 3/6 6/8 4/7")
+    with pytest.raises(MeshError) as info:
+        load_pose(_parts(tmp_path, changed, "changed.obj"), mesh)
+    message = str(info.value)
+    assert "changed.obj" in message
+    assert "face 2 (line 24) uses vertices (2, 3, 6, 4)" in message
+    assert "the neutral mesh's face 2 uses (2, 3, 6, 5)" in message
+    # Fewer faces and no part names: the cut cannot be made.
+    other = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+    with pytest.raises(MeshError, match="no part called skin") as info:
+        load_pose(_parts(tmp_path, other, "tri.obj"), mesh)
+    assert "tri.obj" in str(info.value)
+
+
+def test_unknown_or_empty_choices_are_clear_errors(tmp_path: Path):
+    path = _parts(tmp_path)
+    with pytest.raises(MeshError) as info:
+        load_mesh(path, keep=["skin", "teeth"])
+    message = str(info.value)
+    assert "head.obj" in message and "'teeth'" in message
+    assert "the file has: eye, eyes, Head, skin" in message
+    with pytest.raises(MeshError, match=r"no material named 'eyes' \(the file has: eye, skin\)"):
+        load_mesh(path, keep=["eyes"], kind="material")
+    with pytest.raises(MeshError, match="no parts are kept") as info:
+        load_mesh(path, keep=[])
+    assert "head.obj" in str(info.value)
+    # A part with no faces cannot be kept: "g" with nothing after it names no part.
+    with pytest.raises(MeshError, match="no object, group or material named 'empty'"):
+        load_mesh(_write(tmp_path / "e.obj", TRI + "f 1/1 2/2 3/3\ng empty\n"), keep=["empty"])
+
+
+def test_not_face_vertices_are_those_only_not_face_parts_touch(tmp_path: Path):
+    from studio.core.meshio import not_face_vertices
+
+    mesh = load_mesh(_parts(tmp_path))
+    # v5, v6 touch skin and eye faces: skin. v7, v8: eye only.
+    np.testing.assert_array_equal(not_face_vertices(mesh, ["eyes"]),
+                                  [0, 0, 0, 0, 0, 0, 1, 1])
+    np.testing.assert_array_equal(not_face_vertices(mesh, ["eye"]),
+                                  not_face_vertices(mesh, ["eyes"]))
+    with pytest.raises(MeshError, match="'teeth'"):
+        not_face_vertices(mesh, ["teeth"])
+    with pytest.raises(MeshError, match="only OBJ"):
+        not_face_vertices(FaceMesh(np.eye(3), [[0, 1, 2]], np.zeros((3, 2)), np.arange(3)),
+                          ["eyes"])

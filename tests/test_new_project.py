@@ -71,3 +71,133 @@ def test_the_dialog_reports_a_bad_file_and_stays_open(qtbot, tmp_path, dialogs):
     dialog.create()
     assert dialog.project is None
     assert len(dialogs) == 1 and "broken.obj" in dialogs[0][1]
+
+
+# --------------------------------------------------------------------------------------------
+# Parts of an OBJ: keep some, mark some as not face (dialog and command line)
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def head_with_eyes(tmp_path):
+    """The sample face plus an "eye" (a little quad grid over its forehead) in one OBJ with two
+    groups and materials, and a key pose of both: an artist's export with the eyes inside."""
+    project = make_sample(561, texture_size=64, mask_size=32)
+    mesh = project.mesh
+    save_obj(tmp_path / "face.obj", mesh)
+    save_obj(tmp_path / "face_pose.obj", mesh, project.poses[0].positions)
+    n = mesh.n_welded
+    eye = "\n".join(["v 0 0.1 0.2", "v 0.05 0.1 0.2", "v 0.05 0.15 0.2", "v 0 0.15 0.2",
+                     "vt 0 0", "vt 0.01 0", "vt 0.01 0.01", "vt 0 0.01"])
+    vt0 = len(mesh.uvs)
+    eye_face = " ".join(f"{n + i}/{vt0 + i}" for i in range(1, 5))
+    for name in ("face", "face_pose"):
+        text = (tmp_path / f"{name}.obj").read_text()
+        head, _, faces = text.partition("\nf ")
+        text = (f"{head}\n{eye}\ng skin\nusemtl skin\nf {faces}g Eye_L\nusemtl eye\n"
+                f"f {eye_face}\n")
+        (tmp_path / f"{name}.obj").write_text(text)
+    return tmp_path, project
+
+
+def test_keep_drops_the_eyes_from_the_face_and_its_poses(head_with_eyes):
+    folder, original = head_with_eyes
+    whole = project_from_files(folder / "face.obj", {"smile": folder / "face_pose.obj"})
+    assert whole.mesh.n_welded == original.mesh.n_welded + 4
+    project = project_from_files(folder / "face.obj", {"smile": folder / "face_pose.obj"},
+                                 keep=["skin"])
+    assert project.mesh.n_welded == original.mesh.n_welded
+    np.testing.assert_allclose(project.poses[0].positions, original.poses[0].positions,
+                               atol=1e-5)
+    assert project.not_face is None
+
+
+def test_not_face_flags_only_the_eye_vertices(head_with_eyes):
+    folder, original = head_with_eyes
+    project = project_from_files(folder / "face.obj", not_face=["Eye_L"])
+    assert project.not_face is not None and project.not_face.sum() == 4
+    assert project.not_face[-4:].all()  # the eye's v come last in the file
+    assert project.skin_weights()[:original.mesh.n_welded].min() == 1.0
+    with pytest.raises(MeshError, match="leaves no skin"):
+        project_from_files(folder / "face.obj", not_face=["skin", "eye"])
+
+
+def test_cli_keep_and_not_face(head_with_eyes, capsys):
+    from studio.cli import main
+
+    folder, original = head_with_eyes
+    out = folder / "p.wrinkle"
+    assert main(["new", "--mesh", str(folder / "face.obj"), "--pose",
+                 f"smile={folder / 'face_pose.obj'}", "--keep", "skin", "--keep", "Eye_L",
+                 "--not-face", "eye", "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert f"{original.mesh.n_welded + 4} vertices" in printed
+    assert "not face (eye): 4 vertices" in printed
+    assert out.exists()
+
+
+def test_cli_unknown_group_is_one_line_naming_file_and_groups(head_with_eyes, capsys):
+    from studio.cli import main
+
+    folder, _ = head_with_eyes
+    code = main(["new", "--mesh", str(folder / "face.obj"), "--keep", "eyes",
+                 "-o", str(folder / "p.wrinkle")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err
+    assert "face.obj" in err and "'eyes'" in err
+    assert "(the file has: eye, Eye_L, skin)" in err
+    assert not (folder / "p.wrinkle").exists()
+
+
+def test_the_dialog_offers_the_parts_and_applies_the_choice(qtbot, head_with_eyes, dialogs):
+    from PySide6.QtCore import Qt
+
+    folder, original = head_with_eyes
+    dialog = NewProjectDialog()
+    qtbot.addWidget(dialog)
+    parts = dialog.parts
+    assert parts.isHidden()
+    dialog.mesh.edit.setText(str(folder / "face.obj"))
+    assert not parts.isHidden()
+    # Groups and materials both split this file in two; groups come first.
+    assert [parts.kind.itemData(i) for i in range(parts.kind.count())] == ["group", "material"]
+    rows = {parts.table.item(r, 0).text(): r for r in range(parts.table.rowCount())}
+    assert rows == {"skin": 0, "Eye_L": 1}
+    assert parts.table.item(rows["Eye_L"], parts.FACES).text() == "1"
+    assert int(parts.table.item(rows["skin"], parts.FACES).text()) == original.mesh.n_triangles
+    # The eye is offered as not face; the skin is not.
+    assert parts.ticked(parts.NOT_FACE) == ["Eye_L"]
+    # Keep all: the Keep ticks are greyed out.
+    assert not parts.table.item(rows["skin"], parts.KEEP).flags() & Qt.ItemFlag.ItemIsEnabled
+    ok = dialog.findChild(QDialogButtonBox).button(QDialogButtonBox.StandardButton.Ok)
+    ok.click()
+    assert dialogs == []
+    assert dialog.project.mesh.n_welded == original.mesh.n_welded + 4
+    assert dialog.project.not_face.sum() == 4
+
+    # Keep only the ticked parts, without the eye, and nothing marked as not face.
+    again = NewProjectDialog()
+    qtbot.addWidget(again)
+    again.mesh.edit.setText(str(folder / "face.obj"))
+    again.add_pose("smile", str(folder / "face_pose.obj"))
+    again.parts.kind.setCurrentIndex(1)  # by material: the same choice through other names
+    table = again.parts.table
+    assert [table.item(r, 0).text() for r in range(table.rowCount())] == ["skin", "eye"]
+    again.parts.keep_some.click()
+    item = table.item(1, again.parts.KEEP)
+    assert item.flags() & Qt.ItemFlag.ItemIsEnabled
+    item.setCheckState(Qt.CheckState.Unchecked)
+    again.parts.set_ticked(again.parts.NOT_FACE, set())
+    again.create()
+    assert dialogs == []
+    assert again.project.mesh.n_welded == original.mesh.n_welded
+    assert again.project.not_face is None
+    assert [p.name for p in again.project.poses] == ["smile"]
+
+
+def test_the_parts_table_stays_hidden_for_a_single_part_mesh(qtbot, face_files):
+    folder, _ = face_files
+    dialog = NewProjectDialog()
+    qtbot.addWidget(dialog)
+    dialog.mesh.edit.setText(str(folder / "neutral.obj"))
+    assert dialog.parts.isHidden() and dialog.parts.keep() is None

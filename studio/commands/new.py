@@ -26,8 +26,18 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--diffuse", help="diffuse (skin colour) map")
     p.add_argument("--normal", help="neutral normal map (default: flat)")
     p.add_argument("--wrinkle-normal", help="wrinkled normal map (default: flat)")
+    p.add_argument("--keep", action="extend", nargs="+", metavar="GROUP",
+                   help="keep only these OBJ objects, groups or materials (repeatable; the same "
+                        "parts are taken from every key pose)")
+    p.add_argument("--not-face", action="extend", nargs="+", default=[], metavar="GROUP",
+                   help="OBJ objects, groups or materials that are not skin (eyes, teeth): "
+                        "never wrinkled")
     p.add_argument("--flip-green", action="store_true",
                    help="the normal maps use the DirectX convention (green down)")
+    p.add_argument("--auto", action="store_true",
+                   help="a starting point for both techniques: for each key pose, wrinkle "
+                        "vectors where it moves the skin and a soft mask where it compresses it "
+                        "(and, without --wrinkle-normal, a wrinkled map synthesised from them)")
     p.add_argument("-o", "--output", required=True, help="project file to write (.wrinkle)")
     p.set_defaults(run=run)
 
@@ -41,12 +51,22 @@ def run(args: argparse.Namespace) -> int:
     if len(set(names)) != len(names):
         raise StudioError("two --pose options have the same name")
     project = project_from_files(args.mesh or args.gltf, dict(args.pose), args.diffuse,
-                                 args.normal, args.wrinkle_normal)
+                                 args.normal, args.wrinkle_normal,
+                                 keep=args.keep, not_face=args.not_face)
     if args.flip_green:
         project.textures.normal_neutral = flip_green(project.textures.normal_neutral)
         project.textures.normal_wrinkled = flip_green(project.textures.normal_wrinkled)
+    done = []
+    if args.auto:
+        from studio.core.auto_setup import auto_start
+
+        done = auto_start(project)
     out = Path(args.output)
     save_project(project, out)
     print(f"wrote {out}: {project.mesh.n_welded} vertices, key poses: "
           f"{', '.join(p.name for p in project.poses) or 'none'}")
+    if project.not_face is not None:
+        print(f"not face ({', '.join(args.not_face)}): {int(project.not_face.sum())} vertices")
+    for line in done:
+        print(line)
     return 0

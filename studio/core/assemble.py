@@ -1,19 +1,22 @@
 """A new project from the user's own files: neutral mesh, key-pose meshes, texture maps.
 
 Shared by File ▸ New from Files and the command line. Missing normal maps default to flat ones
-(SPEC §2: the neutral map may be flat); a missing diffuse map to plain skin colour.
+(SPEC §2: the neutral map may be flat); a missing diffuse map to plain skin colour. An OBJ's
+objects, groups and materials can be kept in part (``keep``) and marked as not face
+(``not_face``: eyes, teeth — never wrinkled).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import re
+from collections.abc import Collection, Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
 
 from studio.core.errors import MeshError
 from studio.core.images import load_rgb
-from studio.core.meshio import load_mesh, load_pose
+from studio.core.meshio import load_mesh, load_pose, not_face_vertices
 from studio.core.poses import NEUTRAL
 from studio.core.project import Project
 from studio.core.textures import FaceTextures, flat_normal_map
@@ -27,12 +30,34 @@ def plain_diffuse(size: int = 256) -> np.ndarray:
     return image
 
 
+# Part names that are usually not skin: eyeballs, teeth, tongue, lashes... ("eyelid" is skin).
+_NOT_SKIN = re.compile(
+    r"(^|[^a-z])(eyes?|eyeballs?|cornea|iris|pupils?|teeth|tooth|tongue|gums?|lash(es)?|"
+    r"eyelash(es)?|mouth_?bag|caruncle|tear_?line|occlusion)([^a-z]|$)", re.IGNORECASE)
+
+
+def suggest_not_face(names: Iterable[str]) -> list[str]:
+    """The part names that look like eyes, teeth or tongue: a starting choice for the user."""
+    return [name for name in names if _NOT_SKIN.search(name.replace(" ", "_"))]
+
+
 def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
                        diffuse: str | Path | None = None, normal: str | Path | None = None,
-                       wrinkled: str | Path | None = None, name: str | None = None) -> Project:
+                       wrinkled: str | Path | None = None, name: str | None = None, *,
+                       keep: Collection[str] | None = None,
+                       not_face: Collection[str] = (), part_kind: str | None = None) -> Project:
+    """``keep``: the OBJ parts (objects, groups, materials) to load, None for all; ``not_face``:
+    parts whose vertices get no wrinkles (``Project.not_face``); ``part_kind``: "object",
+    "group" or "material" when the names are of that kind only (None: any)."""
     if Path(mesh).suffix.lower() in (".glb", ".gltf"):
+        if keep is not None or not_face:
+            raise MeshError("only OBJ files have groups or materials to choose from", mesh)
         return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name)
-    face = load_mesh(mesh)
+    face = load_mesh(mesh, keep, part_kind)
+    flags = not_face_vertices(face, not_face, part_kind) if not_face else None
+    if flags is not None and flags.all():
+        raise MeshError(f"marking {', '.join(sorted(not_face))} as not face leaves no skin "
+                        "to wrinkle", mesh)
     key_poses = []
     for pose_name, pose_path in (poses or {}).items():
         if pose_name == NEUTRAL or pose_name in (p.name for p in key_poses):
@@ -43,7 +68,8 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
         normal_neutral=load_rgb(normal) if normal else flat_normal_map(),
         normal_wrinkled=load_rgb(wrinkled) if wrinkled else flat_normal_map(),
     )
-    return Project(name or Path(mesh).stem, face, key_poses, textures)
+    return Project(name or Path(mesh).stem, face, key_poses, textures,
+                   not_face=flags if flags is not None and flags.any() else None)
 
 
 def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
@@ -62,8 +88,8 @@ def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
                        ("normal_wrinkled", wrinkled)):
         if file:
             setattr(textures, attr, load_rgb(file))
-    project.textures = FaceTextures(textures.diffuse, textures.normal_neutral,
-                                    textures.normal_wrinkled)
+    project.textures = FaceTextures(textures.diffuse, textures.normal_neutral,  # re-checked
+                                    wrinkle_maps=dict(textures.wrinkle_maps))
     if name:
         project.name = name
     return project

@@ -5,6 +5,12 @@ file's ``v`` order survives exactly: welded position ``i`` is the file's ``v`` n
 which is what lets a key pose exported from the same scene line up vertex for vertex. Render
 vertices are split wherever one ``v`` is used with different ``vt`` (UV seams).
 
+An OBJ's ``o`` objects, ``g`` groups and ``usemtl`` materials are read per face, so a file holding
+the face with its eyes and teeth can be loaded whole or in part (``keep``, see ``obj_groups``);
+the choice made for the neutral mesh is applied to every key pose loaded against it. When only
+part of a file is kept, its unused ``v`` are dropped: welded positions are then the used ``v`` in
+file order.
+
 Other formats (PLY, glTF/GLB, OFF, ...) go through trimesh; their render vertices are the file's
 vertices and positions that coincide exactly are welded.
 
@@ -15,7 +21,8 @@ face or vertex (numbered from 1, as in the file) — never a bare traceback.
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass
+from collections.abc import Collection
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -26,14 +33,24 @@ from studio.core.poses import KeyPose
 
 Array = np.ndarray
 
-# Polygon structure of meshes read from OBJ, so a key pose can be checked face by face (not only
-# triangle by triangle) and its errors name the file's face numbers. Kept beside FaceMesh rather
-# than in it, and dropped with the mesh.
-_OBJ_POLYGONS: weakref.WeakKeyDictionary[FaceMesh, tuple[Array, Array]] = (
-    weakref.WeakKeyDictionary()
-)
-
 _MISSING = np.iinfo(np.int64).min  # a face corner without a texture index
+
+# The three ways an OBJ names parts of a mesh, and the name of faces that come before any.
+KINDS = ("object", "group", "material")
+_UNNAMED = {"object": "(no object)", "group": "default", "material": "(no material)"}
+_KEYWORD = {"o": "object", "g": "group", "usemtl": "material"}
+
+
+@dataclass(frozen=True)
+class ObjGroup:
+    """A named part of an OBJ: an object, group or material, and how many faces carry it.
+
+    Each kind splits the faces: every face has one object, one group and one material name.
+    """
+
+    kind: str  # "object", "group" or "material"
+    name: str
+    faces: int
 
 
 @dataclass
@@ -46,6 +63,37 @@ class _ObjData:
     corner_v: Array  # (C,) intp
     corner_vt: Array  # (C,) intp, _MISSING where a corner has no vt
     face_lines: Array  # (P,) line of each polygon, for messages
+    # kind -> (names, (P,) index into names per polygon); kinds the file never names are absent
+    labels: dict[str, tuple[list[str], Array]] = field(default_factory=dict)
+    face_number: Array | None = None  # (P,) the file's polygon number, once filtered
+    v_number: Array | None = None  # (N,) the file's v number of each position, once filtered
+
+    def __post_init__(self) -> None:
+        if self.face_number is None:
+            self.face_number = np.arange(len(self.sizes))
+        if self.v_number is None:
+            self.v_number = np.arange(len(self.positions))
+
+    def names(self, kind: str | None = None) -> set[str]:
+        """The part names of one kind, or of every kind."""
+        return {name for k, (names, _) in self.labels.items() if kind in (None, k)
+                for name in names}
+
+
+@dataclass
+class _ObjInfo:
+    """What a mesh read from OBJ remembers of its file: the polygons (so a key pose is checked
+    face by face and errors use the file's numbers), the part names of each kept polygon, and
+    which parts were kept (so each key pose is cut the same way)."""
+
+    data: _ObjData  # the kept polygons, indices over the mesh's welded vertices
+    keep: frozenset[str] | None
+    kind: str | None  # the kind of part the kept names are, None for any
+    file_mask: Array  # (P_file,) bool: which of the file's polygons were kept
+
+
+# Kept beside FaceMesh rather than in it, and dropped with the mesh.
+_OBJ_INFO: weakref.WeakKeyDictionary[FaceMesh, _ObjInfo] = weakref.WeakKeyDictionary()
 
 
 # --------------------------------------------------------------------------------------------
@@ -53,15 +101,45 @@ class _ObjData:
 # --------------------------------------------------------------------------------------------
 
 
-def load_mesh(path: str | Path) -> FaceMesh:
-    """Read a face mesh: OBJ with our parser, other formats through trimesh."""
+def obj_groups(path: str | Path) -> list[ObjGroup]:
+    """The objects, groups and materials an OBJ names, kind by kind, each kind's names in the
+    order the file first uses them, with their face counts. Faces before any ``o``/``g``/
+    ``usemtl`` are "(no object)", "default" (OBJ's own name) and "(no material)"; kinds the
+    file never names are left out."""
+    path = Path(path)
+    _check_readable(path)
+    if path.suffix.lower() != ".obj":
+        return []
+    data = _parse_obj(path, _read_text(path))
+    return [ObjGroup(kind, name, int(count))
+            for kind, (names, ids) in data.labels.items()
+            for name, count in zip(names, np.bincount(ids, minlength=len(names)), strict=True)]
+
+
+def load_mesh(path: str | Path, keep: Collection[str] | None = None,
+              kind: str | None = None) -> FaceMesh:
+    """Read a face mesh: OBJ with our parser, other formats through trimesh.
+
+    ``keep`` (OBJ only) names the parts to keep: a face stays when its object, group or material
+    (only its ``kind`` of name, if given) is one of them; None keeps the whole file. Key poses
+    loaded against the mesh are cut the same way.
+    """
     path = Path(path)
     _check_readable(path)
     if path.suffix.lower() == ".obj":
         data = _parse_obj(path, _read_text(path))
+        file_mask = np.ones(len(data.sizes), bool)
+        chosen = None if keep is None else frozenset(keep)
+        if chosen is not None:
+            file_mask = _named_faces(path, data, chosen, kind)
+            if not file_mask.any():
+                raise MeshError("no parts are kept: keep at least one", path)
+            data = _compact(data, file_mask)
         mesh = _mesh_from_obj(path, data)
-        _OBJ_POLYGONS[mesh] = (data.sizes, data.corner_v)
+        _OBJ_INFO[mesh] = _ObjInfo(data, chosen, kind, file_mask)
         return mesh
+    if keep is not None:
+        raise MeshError("only OBJ files have groups or materials to choose from", path)
     positions, faces, uvs = _load_with_trimesh(path, need_uvs=True)
     assert uvs is not None
     return mesh_from_render_vertices(path, positions, faces, uvs)
@@ -72,16 +150,22 @@ def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyP
 
     OBJ poses must have the same ``v`` count and faces over the same ``v`` indices as the neutral
     OBJ — strictly, the same triangles once polygons are fanned, so a pose re-saved as triangles
-    still fits; UVs are ignored. Poses in other formats must have the same vertices and faces,
-    and vertices welded in the neutral mesh must coincide. The first mismatch is reported (face
-    and vertex numbers from 1, as in the file) so a user can find it in their modelling tool.
+    still fits; UVs are ignored. When only some parts of the neutral OBJ were kept, the pose is
+    cut to the same parts (by name, or by face number if it names none of them) and compared
+    after the cut, so a pose exported without the eyes still fits a neutral mesh without them.
+    Poses in other formats must have the same vertices and faces, and vertices welded in the
+    neutral mesh must coincide. The first mismatch is reported (face and vertex numbers from 1,
+    as in the file) so a user can find it in their modelling tool.
     """
     path = Path(path)
     name = path.stem if name is None else name
     _check_readable(path)
     if path.suffix.lower() == ".obj":
         data = _parse_obj(path, _read_text(path))
-        _check_obj_pose(path, data, mesh)
+        info = _OBJ_INFO.get(mesh)
+        if info is not None and info.keep is not None:
+            data = _compact(data, _pose_keep_mask(path, data, info))
+        _check_obj_pose(path, data, mesh, info)
         return KeyPose(name=name, positions=data.positions)
     positions, faces, _ = _load_with_trimesh(path, need_uvs=False)
     if len(positions) != mesh.n_vertices:
@@ -105,6 +189,23 @@ def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyP
             path,
         )
     return KeyPose(name=name, positions=welded)
+
+
+def not_face_vertices(mesh: FaceMesh, names: Collection[str], kind: str | None = None) -> Array:
+    """(W,) bool: the welded vertices whose every face is in one of the named parts (eyes,
+    teeth...), so the seam between skin and eyelid stays skin. The mesh must come from an OBJ
+    (``load_mesh``); the names are objects, groups or materials of that file (of ``kind``)."""
+    info = _OBJ_INFO.get(mesh)
+    where = mesh.source or None
+    if info is None:
+        raise MeshError("only OBJ files have groups or materials to mark as not-face", where)
+    data = info.data
+    marked = _named_faces(where, data, frozenset(names), kind)
+    per_triangle = np.repeat(marked, data.sizes - 2)
+    tris = mesh.welded_triangles
+    every = np.bincount(tris.ravel(), minlength=mesh.n_welded)
+    flagged = np.bincount(tris[per_triangle].ravel(), minlength=mesh.n_welded)
+    return (every > 0) & (flagged == every)
 
 
 def save_obj(path: str | Path, mesh: FaceMesh, positions: Array | KeyPose | None = None) -> None:
@@ -161,10 +262,12 @@ def _read_text(path: Path) -> str:
 
 
 def _parse_obj(path: Path, text: str) -> _ObjData:
-    """Parse ``v``, ``vt`` and ``f``; everything else (vn, o, g, usemtl, s, ...) is ignored.
+    """Parse ``v``, ``vt``, ``f`` and the part names ``o``, ``g``, ``usemtl``; everything else
+    (vn, s, mtllib, ...) is ignored.
 
     The loop over lines only sorts tokens; numbers are converted in bulk by numpy, and only when
-    that fails is the file walked again to say which line is wrong.
+    that fails is the file walked again to say which line is wrong. Part names are recorded
+    where they change (face count, name) and spread over the faces afterwards.
     """
     v_tok: list[list[str]] = []
     v_line: list[int] = []
@@ -175,6 +278,7 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
     f_line: list[int] = []
     f_nv: list[int] = []  # vertices defined before the face: base of negative indices
     f_nvt: list[int] = []
+    changes: dict[str, list[tuple[int, str]]] = {kind: [] for kind in KINDS}
     for lineno, line in enumerate(text.splitlines(), 1):
         parts = line.split()
         if not parts:
@@ -204,6 +308,9 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
             f_line.append(lineno)
             f_nv.append(len(v_tok))
             f_nvt.append(len(vt_tok))
+        elif key in _KEYWORD:
+            kind = _KEYWORD[key]
+            changes[kind].append((len(sizes), " ".join(parts[1:]) or _UNNAMED[kind]))
     if not v_tok:
         raise MeshError("not an OBJ mesh: no vertices ('v' lines) found", path)
     if not sizes:
@@ -221,7 +328,27 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
     corner_vt = _resolve(
         path, raw_vt, np.asarray(f_nvt), len(uvs), size_arr, lines, "texture coordinate"
     )
-    return _ObjData(positions, uvs, size_arr, corner_v, corner_vt, lines)
+    labels = {kind: _spread_names(kind, changes[kind], len(sizes)) for kind in KINDS
+              if changes[kind]}
+    return _ObjData(positions, uvs, size_arr, corner_v, corner_vt, lines, labels)
+
+
+def _spread_names(kind: str, changes: list[tuple[int, str]], n_faces: int
+                  ) -> tuple[list[str], Array]:
+    """Per-face name index from the (face count, name) points where a name was set; only names
+    that some face carries are kept, in the order faces first carry them."""
+    at = np.array([0] + [start for start, _ in changes], dtype=np.intp)
+    names = [_UNNAMED[kind]] + [name for _, name in changes]
+    index: dict[str, int] = {}
+    code = np.array([index.setdefault(n, len(index)) for n in names], dtype=np.intp)
+    unique = list(index)
+    ids = code[np.searchsorted(at, np.arange(n_faces), side="right") - 1]
+    used, ids = np.unique(ids, return_inverse=True)
+    _, first = np.unique(ids, return_index=True)
+    order = np.argsort(first)  # renumber by first face, not alphabetically
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return [unique[i] for i in used[order]], rank[ids.reshape(-1)]
 
 
 def _require_finite(path: Path, values: Array, lines: Array, message: str) -> None:
@@ -310,6 +437,60 @@ def _resolve(
         )
     index[missing] = _MISSING
     return index
+
+
+def _named_faces(path: Path | str | None, data: _ObjData, names: frozenset[str],
+                 kind: str | None) -> Array:
+    """(P,) bool: the polygons whose object, group or material (or only its ``kind`` of name)
+    is one of ``names`` (``--keep skin --keep lips`` keeps both); an unknown name is an error
+    that lists the file's names. Every name listed has faces, so a known name selects some."""
+    if kind is not None and kind not in KINDS:
+        raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+    unknown = sorted(names - data.names(kind))
+    if unknown:
+        what = "object, group or material" if kind is None else kind
+        have = ", ".join(sorted(data.names(kind), key=str.lower)) or "none"
+        raise MeshError(f"no {what} named {', '.join(map(repr, unknown))} "
+                        f"(the file has: {have})", path)
+    mask = np.zeros(len(data.sizes), bool)
+    for k, (names_of_kind, ids) in data.labels.items():
+        if kind in (None, k):
+            mask |= np.isin(ids, [i for i, n in enumerate(names_of_kind) if n in names])
+    return mask
+
+
+def _pose_keep_mask(path: Path, data: _ObjData, info: _ObjInfo) -> Array:
+    """The neutral mesh's choice of parts applied to a key pose: by name when the pose names
+    them, else by face number when it has as many faces as the neutral file."""
+    assert info.keep is not None
+    if info.keep <= data.names(info.kind):
+        return _named_faces(path, data, info.keep, info.kind)
+    if len(data.sizes) == len(info.file_mask):
+        return info.file_mask
+    missing = ", ".join(sorted(info.keep - data.names(info.kind)))
+    raise MeshError(f"names no part called {missing} (kept from the neutral mesh) and has "
+                    f"{len(data.sizes)} faces, the neutral file {len(info.file_mask)}: export "
+                    "the key pose with the same objects, groups and materials", path)
+
+
+def _compact(data: _ObjData, keep: Array) -> _ObjData:
+    """Only the kept polygons, and only the ``v`` they use (renumbered, file order kept)."""
+    corners = np.repeat(keep, data.sizes)
+    corner_v = data.corner_v[corners]
+    used = np.unique(corner_v)
+    renumber = np.full(len(data.positions), -1, dtype=np.intp)
+    renumber[used] = np.arange(len(used))
+    return _ObjData(
+        positions=data.positions[used],
+        uvs=data.uvs,
+        sizes=data.sizes[keep],
+        corner_v=renumber[corner_v],
+        corner_vt=data.corner_vt[corners],
+        face_lines=data.face_lines[keep],
+        labels={kind: (names, ids[keep]) for kind, (names, ids) in data.labels.items()},
+        face_number=data.face_number[keep],
+        v_number=data.v_number[used],
+    )
 
 
 def _fan_triangles(sizes: Array) -> Array:
@@ -421,10 +602,11 @@ def mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: A
 # --------------------------------------------------------------------------------------------
 
 
-def _check_obj_pose(path: Path, data: _ObjData, mesh: FaceMesh) -> None:
+def _check_obj_pose(path: Path, data: _ObjData, mesh: FaceMesh, info: _ObjInfo | None) -> None:
+    kept = "" if info is None or info.keep is None else " in the parts kept"
     if len(data.positions) != mesh.n_welded:
         raise MeshError(
-            f"has {len(data.positions)} vertices, the neutral mesh has {mesh.n_welded}", path
+            f"has {len(data.positions)} vertices{kept}, the neutral mesh has {mesh.n_welded}", path
         )
     # Same triangles is what matters (a pose saved by save_obj has only triangles even when the
     # neutral file had quads). When they differ, the first mismatching face is named in the
@@ -432,13 +614,15 @@ def _check_obj_pose(path: Path, data: _ObjData, mesh: FaceMesh) -> None:
     tris = data.corner_v[_fan_triangles(data.sizes)]
     if np.array_equal(tris, mesh.welded_triangles):
         return
-    polygons = _OBJ_POLYGONS.get(mesh)
-    if polygons is None:  # e.g. a neutral mesh restored from a project file
+    if info is None:  # e.g. a neutral mesh restored from a project file
         _check_same_triangles(path, tris, mesh.welded_triangles)
         return
-    sizes, corners = polygons
+    neutral = info.data
+    sizes, corners = neutral.sizes, neutral.corner_v
     if len(data.sizes) != len(sizes):
-        raise MeshError(f"has {len(data.sizes)} faces, the neutral mesh has {len(sizes)}", path)
+        raise MeshError(
+            f"has {len(data.sizes)} faces{kept}, the neutral mesh has {len(sizes)}", path
+        )
     size_differs = np.flatnonzero(data.sizes != sizes)
     first_bad = int(size_differs[0]) if len(size_differs) else len(sizes)
     n_same = int(sizes[:first_bad].sum())  # corners that line up before any size differs
@@ -454,9 +638,11 @@ def _check_obj_pose(path: Path, data: _ObjData, mesh: FaceMesh) -> None:
         ]
         theirs = corners[starts_neutral[first_bad] : starts_neutral[first_bad] + sizes[first_bad]]
         raise MeshError(
-            f"face {first_bad + 1} (line {int(data.face_lines[first_bad])}) uses vertices "
-            f"{_one_based(mine)}, the neutral mesh's face {first_bad + 1} uses "
-            f"{_one_based(theirs)}",
+            f"face {int(data.face_number[first_bad]) + 1} (line "
+            f"{int(data.face_lines[first_bad])}) uses vertices "
+            f"{_one_based(data.v_number[mine])}, the neutral mesh's face "
+            f"{int(neutral.face_number[first_bad]) + 1} uses "
+            f"{_one_based(neutral.v_number[theirs])}",
             path,
         )
 

@@ -19,7 +19,9 @@ from PySide6.QtWidgets import (
 from studio import __version__
 from studio.core.errors import StudioError
 from studio.core.project import Project
+from studio.widgets.auto_tools import install_auto_tools
 from studio.widgets.autosave import install_autosave
+from studio.widgets.bake_tools import install_bake_tools
 from studio.widgets.document import Document
 from studio.widgets.map_tools import install_map_tools
 from studio.widgets.mask_tools import install_mask_tools
@@ -73,6 +75,8 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()
         install_map_tools(self)  # Maps menu and File ▸ Export (issue 8), needs the menus
+        install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh (issue 8), needs Maps
+        install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
         self._arrange_docks()
         self.doc.modifiedChanged.connect(self.setWindowModified)
         self.doc.pathChanged.connect(self._update_title)

@@ -1,31 +1,46 @@
-"""File ▸ New from Files: pick a neutral mesh, key-pose meshes and texture maps."""
+"""File ▸ New from Files: pick a neutral mesh, key-pose meshes and texture maps.
+
+When the neutral mesh is an OBJ with several objects, groups or materials, a table lists them:
+keep them all or only the ticked ones (the key poses are cut the same way), and tick the parts
+that are not skin (eyes, teeth) so they never wrinkle.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
+    QButtonGroup,
     QCheckBox,
+    QComboBox,
     QDialog,
     QDialogButtonBox,
     QFileDialog,
     QFormLayout,
+    QGroupBox,
     QHBoxLayout,
+    QHeaderView,
+    QLabel,
     QLineEdit,
     QMessageBox,
     QPushButton,
+    QRadioButton,
     QTableWidget,
     QTableWidgetItem,
     QVBoxLayout,
     QWidget,
 )
 
-from studio.core.assemble import project_from_files
+from studio.core.assemble import project_from_files, suggest_not_face
 from studio.core.errors import StudioError
+from studio.core.meshio import ObjGroup, obj_groups
 from studio.core.normalmap import flip_green
 from studio.core.project import Project
 
 MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
+# Kinds of OBJ part, in the order preferred when two have as many names.
+KIND_LABELS = {"group": "Groups (g)", "material": "Materials (usemtl)", "object": "Objects (o)"}
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga);;All files (*)"
 
 
@@ -54,13 +69,119 @@ class FileField(QWidget):
         return self.edit.text().strip() or None
 
 
+class PartsBox(QGroupBox):
+    """The OBJ's objects, groups or materials (one kind at a time: each kind splits the faces):
+    which to keep, which are not face."""
+
+    NAME, FACES, KEEP, NOT_FACE = range(4)
+
+    def __init__(self) -> None:
+        super().__init__("Parts of the mesh")
+        self.groups: list[ObjGroup] = []
+        self.kind = QComboBox()
+        self.kind.currentIndexChanged.connect(self._fill)
+        self.keep_all = QRadioButton("Keep all parts")
+        self.keep_some = QRadioButton("Keep only the ticked parts")
+        self.keep_all.setChecked(True)
+        choice = QButtonGroup(self)
+        choice.addButton(self.keep_all)
+        choice.addButton(self.keep_some)
+        self.keep_some.toggled.connect(self._enable_keep)
+        self.table = QTableWidget(0, 4)
+        self.table.setHorizontalHeaderLabels(["Part", "Faces", "Keep", "Not face"])
+        self.table.verticalHeader().hide()
+        header = self.table.horizontalHeader()
+        header.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
+        header.setSectionResizeMode(self.NAME, QHeaderView.ResizeMode.Stretch)
+        self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
+        hint = QLabel("Not face: eyes, teeth, tongue… keep their shading but never wrinkle "
+                      "(a vertex is not face when all its faces are). The key poses are cut "
+                      "like the neutral mesh.")
+        hint.setWordWrap(True)
+        top = QHBoxLayout()
+        top.addWidget(QLabel("Parts by"))
+        top.addWidget(self.kind)
+        top.addSpacing(16)
+        top.addWidget(self.keep_all)
+        top.addWidget(self.keep_some)
+        top.addStretch(1)
+        layout = QVBoxLayout(self)
+        layout.addLayout(top)
+        layout.addWidget(self.table, 1)
+        layout.addWidget(hint)
+
+    def set_groups(self, groups: list[ObjGroup]) -> None:
+        """Offer the parts (hidden when no kind has two); the kind with the most names is
+        shown first, and likely non-skin parts start ticked as not face."""
+        self.groups = groups
+        counts = {k: sum(g.kind == k for g in groups) for k in KIND_LABELS}
+        kinds = [k for k in KIND_LABELS if counts[k] > 1]
+        self.kind.blockSignals(True)
+        self.kind.clear()
+        for kind in sorted(kinds, key=lambda k: -counts[k]):
+            self.kind.addItem(KIND_LABELS[kind], kind)
+        self.kind.blockSignals(False)
+        self.keep_all.setChecked(True)
+        self._fill()
+        self.setVisible(bool(kinds))
+
+    def _fill(self) -> None:
+        shown = [g for g in self.groups if g.kind == self.kind.currentData()]
+        suggested = set(suggest_not_face(g.name for g in shown))
+        self.table.setRowCount(0)
+        for row, group in enumerate(shown):
+            self.table.insertRow(row)
+            self.table.setItem(row, self.NAME, QTableWidgetItem(group.name))
+            faces = QTableWidgetItem(str(group.faces))
+            faces.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+            self.table.setItem(row, self.FACES, faces)
+            for column, ticked in ((self.KEEP, True), (self.NOT_FACE, group.name in suggested)):
+                item = QTableWidgetItem()
+                item.setFlags(Qt.ItemFlag.ItemIsUserCheckable | Qt.ItemFlag.ItemIsEnabled)
+                item.setCheckState(Qt.CheckState.Checked if ticked else Qt.CheckState.Unchecked)
+                self.table.setItem(row, column, item)
+        self._enable_keep()
+
+    def _enable_keep(self) -> None:
+        flags = Qt.ItemFlag.ItemIsUserCheckable
+        if self.keep_some.isChecked():
+            flags |= Qt.ItemFlag.ItemIsEnabled
+        for row in range(self.table.rowCount()):
+            self.table.item(row, self.KEEP).setFlags(flags)
+
+    def ticked(self, column: int) -> list[str]:
+        return [self.table.item(r, self.NAME).text() for r in range(self.table.rowCount())
+                if self.table.item(r, column).checkState() == Qt.CheckState.Checked]
+
+    def set_ticked(self, column: int, names: set[str]) -> None:
+        for row in range(self.table.rowCount()):
+            name = self.table.item(row, self.NAME).text()
+            self.table.item(row, column).setCheckState(
+                Qt.CheckState.Checked if name in names else Qt.CheckState.Unchecked)
+
+    def part_kind(self) -> str | None:
+        return None if self.isHidden() else self.kind.currentData()
+
+    def keep(self) -> list[str] | None:
+        """The parts to keep, None for the whole file."""
+        if self.isHidden() or self.keep_all.isChecked():
+            return None
+        return self.ticked(self.KEEP)
+
+    def not_face(self) -> list[str]:
+        return [] if self.isHidden() else self.ticked(self.NOT_FACE)
+
+
 class NewProjectDialog(QDialog):
     def __init__(self, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.setWindowTitle("New project from files")
-        self.resize(640, 460)
+        self.resize(680, 620)
         self.project: Project | None = None
         self.mesh = FileField("Neutral mesh", MESH_FILTER, "required: the face in its rest pose")
+        self.parts = PartsBox()
+        self.parts.hide()
+        self.mesh.edit.textChanged.connect(self.list_parts)
         self.diffuse = FileField("Diffuse map", IMAGE_FILTER, "optional: plain skin colour")
         self.normal = FileField("Neutral normal map", IMAGE_FILTER, "optional: flat")
         self.wrinkled = FileField("Wrinkled normal map", IMAGE_FILTER, "optional: flat")
@@ -89,9 +210,21 @@ class NewProjectDialog(QDialog):
         box.rejected.connect(self.reject)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
+        layout.addWidget(self.parts, 1)
         layout.addWidget(self.poses, 1)
         layout.addLayout(buttons)
         layout.addWidget(box)
+
+    def list_parts(self) -> None:
+        """Offer the parts of a neutral OBJ; a file that cannot be read is reported at Create."""
+        path = Path(self.mesh.path() or "")
+        groups: list[ObjGroup] = []
+        if path.suffix.lower() == ".obj" and path.is_file():
+            try:
+                groups = obj_groups(path)
+            except StudioError:
+                groups = []
+        self.parts.set_groups(groups)
 
     def add_poses(self) -> None:
         names, _ = QFileDialog.getOpenFileNames(self, "Key-pose meshes", "", MESH_FILTER)
@@ -115,7 +248,9 @@ class NewProjectDialog(QDialog):
         try:
             project = project_from_files(self.mesh.path(), self.pose_files(),
                                          self.diffuse.path(), self.normal.path(),
-                                         self.wrinkled.path())
+                                         self.wrinkled.path(), keep=self.parts.keep(),
+                                         not_face=self.parts.not_face(),
+                                         part_kind=self.parts.part_kind())
         except StudioError as exc:
             QMessageBox.critical(self, "Cannot create the project", str(exc))
             return

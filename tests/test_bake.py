@@ -1,0 +1,356 @@
+"""Baking a wrinkled normal map from a high-polygon mesh: exact on cases worked by hand, in the
+renderer's tangent frame, and from the Maps menu as one undo step."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+
+from studio.core.bake import BakeCancelled, bake_normal_map, texel_samples
+from studio.core.errors import MeshError
+from studio.core.geometry import DeformCache
+from studio.core.mesh import FaceMesh
+
+SIZE = 64
+A, K = 0.02, 3  # the sculpt's height: A·sin(2πK·x)·cos(4π·y) over the unit square
+
+
+def grid(n: int, height=None, uv_scale: float = 1.0, mirror_u: bool = False) -> FaceMesh:
+    """An n × n vertex grid over the unit square (z = height(x, y)), UVs = (x, y)."""
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    idx = np.arange(n * n).reshape(n, n)
+    a, b = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel()
+    c, d = idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    triangles = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+    z = np.zeros_like(x) if height is None else height(x, y)
+    u = 1.0 - x if mirror_u else x  # mirrored: clockwise in UV space, tangent w = −1
+    return FaceMesh(np.stack([x.ravel(), y.ravel(), z.ravel()], 1), triangles,
+                    np.stack([u.ravel(), y.ravel()], 1) * uv_scale, np.arange(n * n),
+                    source="high.obj")
+
+
+def sculpt(x, y):
+    return A * np.sin(2 * np.pi * K * x) * np.cos(4 * np.pi * y)
+
+
+def analytic_normals(size: int, mirror_u: bool = False) -> np.ndarray:
+    """The sculpt's unit normal (−∂h/∂x, −∂h/∂y, 1) at each texel centre, in the quad's
+    tangent frame: row 0 is v = 1; a mirrored U flips the tangent, so x changes sign."""
+    c = (np.arange(size) + 0.5) / size
+    u, v = np.meshgrid(c, 1.0 - c)
+    x = 1.0 - u if mirror_u else u
+    hx = A * 2 * np.pi * K * np.cos(2 * np.pi * K * x) * np.cos(4 * np.pi * v)
+    hy = -A * 4 * np.pi * np.sin(2 * np.pi * K * x) * np.sin(4 * np.pi * v)
+    n = np.stack([hx if mirror_u else -hx, -hy, np.ones_like(hx)], axis=-1)
+    return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+
+def angles(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Degrees between unit vectors."""
+    dot = (np.asarray(a, np.float64) * np.asarray(b, np.float64)).sum(-1)
+    return np.degrees(np.arccos(np.clip(dot, -1.0, 1.0)))
+
+
+def decode(image: np.ndarray) -> np.ndarray:
+    n = image.astype(np.float64) / np.iinfo(image.dtype).max * 2.0 - 1.0
+    return n / np.linalg.norm(n, axis=-1, keepdims=True)
+
+
+@pytest.fixture(scope="module")
+def high() -> FaceMesh:
+    return grid(241, sculpt)
+
+
+def test_flat_quad_against_a_sinusoidal_sculpt_gives_the_analytic_normals(high):
+    low = grid(2)  # one quad, two triangles
+    result = bake_normal_map(low, high, SIZE, max_distance=0.1)
+    assert result.covered.all() and result.hit.all() and result.hit_fraction == 1.0
+    expected = analytic_normals(SIZE)
+    assert angles(expected, expected[..., 2:] * [0, 0, 1]).max() > 15  # slopes are real
+    # Interpolated vertex normals of a 240-quad grid: within 0.2° of the true normals (measured
+    # 0.04°); through 8 bits, within 1° (quantisation alone is up to ~0.45°).
+    assert angles(result.normals, expected).max() < 0.2
+    assert angles(decode(result.image), expected).max() < 1.0
+    assert result.image.dtype == np.uint8 and result.image.shape == (SIZE, SIZE, 3)
+    sixteen = bake_normal_map(low, high, SIZE, max_distance=0.1, bits=16)
+    assert sixteen.image.dtype == np.uint16
+    assert angles(decode(sixteen.image), expected).max() < 0.2
+
+
+def test_a_flat_sculpt_on_a_flat_face_bakes_a_flat_map():
+    result = bake_normal_map(grid(3), grid(40), SIZE, max_distance=0.1)
+    assert (result.image == (128, 128, 255)).all()
+
+
+def test_a_groove_shows_as_two_tilted_walls():
+    """The issue's case: a plane with a V groove along v, 0.1 wide and 0.02 deep at u = 0.5."""
+    def groove(x, y):
+        return -0.02 * np.clip(1.0 - np.abs(x - 0.5) / 0.05, 0.0, None)
+
+    result = bake_normal_map(grid(2), grid(201, groove), SIZE, max_distance=0.05)
+    red = result.image[SIZE // 2, :, 0].astype(int)
+    col = (np.arange(SIZE) + 0.5) / SIZE
+    slope = 0.02 / 0.05
+    tilt = round((slope / np.hypot(slope, 1.0) * 0.5 + 0.5) * 255)  # n_x = sin(atan(0.4))
+    left = (col > 0.455) & (col < 0.49)  # the wall falling toward +u: normal toward +x
+    right = (col > 0.51) & (col < 0.545)
+    outside = np.abs(col - 0.5) > 0.06
+    assert (np.abs(red[left] - tilt) <= 1).all()
+    assert (np.abs(red[right] - (255 - tilt)) <= 1).all()
+    assert (red[outside] == 128).all()
+
+
+def test_the_tangent_frame_is_the_renderers_whatever_the_pose_or_handedness(high):
+    """The map is read in each texel's tangent frame, so moving the face and sculpt together
+    changes nothing, and a mirrored UV layout (tangent w = −1) mirrors the map."""
+    low = grid(2)
+    plain = bake_normal_map(low, high, SIZE, max_distance=0.1).normals
+    angle = np.radians(50)
+    c, s = np.cos(angle), np.sin(angle)
+    rotate = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]) @ np.array([[1, 0, 0], [0, c, -s],
+                                                                        [0, s, c]])
+    moved = [FaceMesh(m.rest @ rotate.T + [3, -2, 1], m.triangles, m.uvs, m.weld)
+             for m in (low, high)]
+    turned = bake_normal_map(*moved, SIZE, max_distance=0.1).normals
+    assert angles(turned, plain).max() < 0.05  # float32 positions, rotated and moved
+    mirror_low = grid(2, mirror_u=True)
+    assert (DeformCache(mirror_low).update(mirror_low.rest)[:, 9] == -1).all()  # w = −1
+    mirrored = bake_normal_map(mirror_low, grid(241, sculpt, mirror_u=True), SIZE,
+                               max_distance=0.1).normals
+    assert angles(mirrored, analytic_normals(SIZE, mirror_u=True)).max() < 0.2
+
+
+def cylinder(segments: int, rows: int, uv_jitter: float = 0.0) -> FaceMesh:
+    """A third of a unit cylinder around y (θ from −60° to 60°, y from 0 to 1), UVs (θ, y)."""
+    theta, y = np.meshgrid(np.linspace(-np.pi / 3, np.pi / 3, segments + 1),
+                           np.linspace(0, 1, rows + 1))
+    idx = np.arange(theta.size).reshape(theta.shape)
+    a, b = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel()
+    c, d = idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    triangles = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])  # outward
+    rest = np.stack([np.sin(theta), y, np.cos(theta)], -1).reshape(-1, 3)
+    uv = np.stack([(theta + np.pi / 3) / (2 * np.pi / 3), y], -1).reshape(-1, 2)
+    uv[:, 1] += uv_jitter * np.random.default_rng(1).uniform(-1, 1, len(uv)) * (uv[:, 1] > 0)
+    return FaceMesh(rest, triangles, uv, np.arange(len(rest)))
+
+
+def test_the_shader_reading_the_map_gets_the_sculpt_normal_back_on_a_curved_face():
+    """A coarse cylinder (4 facets, UVs jittered so its interpolated tangent frames are not
+    orthonormal) baked against a fine one: decoding the map the way face.frag does,
+    normalize(mat3(T̂, B̂, N̂) · n), gives the fine cylinder's normal where the ray meets it."""
+    low = cylinder(4, 1, uv_jitter=0.15)
+    result = bake_normal_map(low, cylinder(240, 1), SIZE, max_distance=0.1)
+    assert result.hit_fraction > 0.99
+    rows, cols, tri, bary = texel_samples(low, SIZE)
+    buffer = DeformCache(low).update(low.rest).astype(np.float64)
+    n, t, w = buffer[:, 3:6], buffer[:, 6:9], buffer[:, 9:10]
+    corners = low.triangles[tri]
+
+    def interpolated(values):
+        v = np.einsum("nk,nkj->nj", bary, values[corners])
+        return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+    tn, bn, nn = interpolated(t), interpolated(w * np.cross(n, t)), interpolated(n)
+    assert np.abs((bn * nn).sum(1)).max() > 0.01  # the frames really are skewed (~1°)
+    local = result.normals[rows, cols].astype(np.float64)
+    shaded = local[:, :1] * tn + local[:, 1:2] * bn + local[:, 2:] * nn
+    shaded /= np.linalg.norm(shaded, axis=1, keepdims=True)
+    # Where the ray p + s·N̂ meets the cylinder x² + z² = 1, the normal is (x, 0, z).
+    p = np.einsum("nk,nkj->nj", bary, low.rest.astype(np.float64)[corners])
+    qa = nn[:, 0] ** 2 + nn[:, 2] ** 2
+    qb = 2 * (p[:, 0] * nn[:, 0] + p[:, 2] * nn[:, 2])
+    qc = p[:, 0] ** 2 + p[:, 2] ** 2 - 1
+    s = (-qb + np.sqrt(qb * qb - 4 * qa * qc)) / (2 * qa)
+    hit = p + s[:, None] * nn
+    expected = hit * [1, 0, 1]
+    expected /= np.linalg.norm(expected, axis=1, keepdims=True)
+    inside = result.hit[rows, cols]
+    assert angles(shaded[inside], expected[inside]).max() < 0.2
+
+
+def test_texels_without_a_hit_take_the_normal_at_the_same_uv(high):
+    far = FaceMesh(high.rest + np.float32([0, 0, 5]), high.triangles, high.uvs, high.weld)
+    result = bake_normal_map(grid(2), far, SIZE, max_distance=0.1)
+    assert not result.hit.any() and result.from_uv.all() and result.hit_fraction == 0.0
+    assert angles(result.normals, analytic_normals(SIZE)).max() < 0.2
+
+
+def test_charts_are_padded_and_the_rest_is_flat():
+    half = grid(2, uv_scale=0.5)  # the face covers the lower-left quarter of the map
+    tilted = grid(20, lambda x, y: 0.3 * x, uv_scale=0.5)
+    result = bake_normal_map(half, tilted, SIZE, max_distance=0.5, padding=4)
+    inside = result.image[SIZE - 1, 0]
+    assert inside[0] < 100  # rising toward +u: normal toward −x
+    q = SIZE // 2
+    assert (result.image[q:, q:q + 4] == inside).all()  # four texels of padding
+    assert (result.image[:q - 4] == (128, 128, 255)).all()
+    assert (result.image[:, q + 4:] == (128, 128, 255)).all()
+
+
+def test_another_uv_layout_is_refused_naming_the_file(high):
+    other = FaceMesh(high.rest, high.triangles, high.uvs * 0.5, high.weld, source="sculpt.obj")
+    with pytest.raises(MeshError, match="UV layout differs") as info:
+        bake_normal_map(grid(2), other, SIZE, max_distance=0.1)
+    assert "sculpt.obj" in str(info.value)
+    with pytest.raises(MeshError, match="distance must be positive"):
+        bake_normal_map(grid(2), high, SIZE, max_distance=0.0)
+
+
+def test_progress_rises_to_one_and_cancel_stops(high):
+    seen: list[float] = []
+    bake_normal_map(grid(2), high, SIZE, max_distance=0.1, progress=seen.append)
+    assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) > 3
+    calls = []
+
+    def cancel_soon() -> bool:
+        calls.append(1)
+        return len(calls) > 2
+
+    with pytest.raises(BakeCancelled):
+        bake_normal_map(grid(2), high, SIZE, max_distance=0.1, cancelled=cancel_soon)
+
+
+# --------------------------------------------------------------------------------------------
+# The Maps menu
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def sculpt_file(window, tmp_path):
+    """The window's face with ridges across the forehead, saved as the high-polygon OBJ."""
+    from studio.core.geometry import vertex_normals
+    from studio.core.meshio import save_obj
+
+    mesh = window.doc.project.mesh
+    normals = vertex_normals(mesh.rest, mesh.welded_triangles)
+    size = float(np.ptp(mesh.rest[:, 1]))
+    ridges = 0.004 * size * np.sin(mesh.rest[:, 1] / size * 80)
+    path = tmp_path / "sculpt.obj"
+    save_obj(path, mesh, mesh.rest + normals * ridges[:, None].astype(np.float32))
+    return path
+
+
+def menu_action(window, text: str):
+    bar = window.menuBar()
+    maps = next(a.menu() for a in bar.actions() if a.text().replace("&", "") == "Maps")
+    return next(a for a in maps.actions() if a.text() == text)
+
+
+def test_bake_from_the_maps_menu_is_one_undo_step(window, qtbot, monkeypatch, sculpt_file):
+    from PySide6.QtWidgets import QDialog
+
+    from studio.core.textures import flat_normal_map
+    from studio.widgets.bake_tools import BakeDialog
+
+    doc = window.doc
+    textures = doc.project.textures
+    textures.set_wrinkle_map("smile", flat_normal_map(512))  # a second map, baked into
+    first = textures.normal_wrinkled
+    assert first.shape[1] != 512
+
+    def fill(dialog):
+        dialog.mesh.edit.setText(str(sculpt_file))
+        assert dialog.target.count() == len(textures.wrinkle_maps)
+        assert dialog.map_size() == first.shape[1]  # the first map, at first
+        dialog.target.setCurrentIndex(dialog.target.findText("smile"))
+        assert dialog.map_size() == 512  # the resolution follows the chosen map
+        return QDialog.DialogCode.Accepted
+
+    monkeypatch.setattr(BakeDialog, "exec", fill)
+    old = textures.wrinkle_maps["smile"]
+    menu_action(window, "Bake Wrinkled Normal Map from High-Poly Mesh…").trigger()
+    tools = window.bake_tools
+    assert tools.busy and tools.progress.isVisible()
+    qtbot.waitUntil(lambda: not tools.busy, timeout=120_000)
+    new = textures.wrinkle_maps["smile"]
+    assert new.shape == (512, 512, 3) and new is not old
+    assert textures.normal_wrinkled is first
+    assert doc.undo_stack.count() == 1
+    assert doc.undo_stack.text(0) == "Bake wrinkled map “smile” from high-poly mesh"
+    # The ridges show: rows of the map alternate between tilting up and down (green).
+    green = new[:, :, 1].astype(int)
+    assert green.max() - green.min() > 40
+    assert "found the high-poly mesh" in window.statusBar().currentMessage()
+    doc.undo_stack.undo()
+    assert textures.wrinkle_maps["smile"] is old
+    doc.undo_stack.redo()
+    assert textures.wrinkle_maps["smile"] is new
+
+
+def test_cancelling_the_bake_leaves_the_map(window, qtbot, monkeypatch, sculpt_file):
+    from PySide6.QtWidgets import QPushButton
+
+    import studio.widgets.bake_tools as bake_tools
+
+    release = threading.Event()
+    real_load = bake_tools.load_mesh
+
+    def slow_load(path):
+        release.wait(30)  # until the test has pressed Cancel
+        return real_load(path)
+
+    monkeypatch.setattr(bake_tools, "load_mesh", slow_load)
+    old = window.doc.project.textures.normal_wrinkled
+    tools = window.bake_tools
+    tools.start(sculpt_file, 512, 0.01)
+    cancel = tools.progress.findChild(QPushButton)
+    assert cancel.text() == "Cancel"
+    cancel.click()
+    release.set()
+    qtbot.waitUntil(lambda: not tools.busy, timeout=60_000)
+    assert window.doc.project.textures.normal_wrinkled is old
+    assert window.doc.undo_stack.count() == 0
+    assert "cancelled" in window.statusBar().currentMessage()
+
+
+def test_a_sculpt_without_uvs_is_reported_by_name(window, qtbot, tmp_path, dialogs):
+    bare = tmp_path / "no_uvs.obj"
+    bare.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    tools = window.bake_tools
+    tools.start(bare, 512, 0.01)
+    qtbot.waitUntil(lambda: not tools.busy, timeout=60_000)
+    assert len(dialogs) == 1 and "no_uvs.obj" in dialogs[0][1]
+    assert "texture coordinates" in dialogs[0][1]
+    assert window.doc.undo_stack.count() == 0
+
+
+# --------------------------------------------------------------------------------------------
+# The command line
+# --------------------------------------------------------------------------------------------
+
+
+def test_cli_bakes_into_the_project_and_a_png(tmp_path, capsys):
+    from studio.cli import main
+    from studio.core.images import load_rgb
+    from studio.core.meshio import save_obj
+    from studio.core.project_file import load_project, save_project
+    from studio.core.sample import make_sample
+
+    project = make_sample(561, texture_size=64, mask_size=32)
+    save_project(project, tmp_path / "face.wrinkle")
+    mesh = project.mesh
+    save_obj(tmp_path / "sculpt.obj", mesh, mesh.rest * np.float32(1.001))
+    name = project.textures.wrinkle_map_names[-1]
+    assert main(["bake", str(tmp_path / "face.wrinkle"), "--high", str(tmp_path / "sculpt.obj"),
+                 "--size", "64", "--map", name, "--png", str(tmp_path / "map.png"),
+                 "-o", str(tmp_path / "baked.wrinkle")]) == 0
+    assert f"wrinkled map '{name}' at 64²" in capsys.readouterr().out
+    baked = load_project(tmp_path / "baked.wrinkle").textures.wrinkle_maps[name]
+    assert baked.shape == (64, 64, 3)
+    assert np.array_equal(baked, load_rgb(tmp_path / "map.png"))
+    # A scaled copy of the face is nearly flat against it: the map is close to (128, 128, 255).
+    assert np.abs(baked.astype(int) - (128, 128, 255)).mean() < 3
+
+    code = main(["bake", str(tmp_path / "face.wrinkle"), "--high", str(tmp_path / "sculpt.obj"),
+                 "--map", "nope", "--png", str(tmp_path / "x.png")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err and "no wrinkled map named 'nope'" in err
+    flat = grid(3, uv_scale=0.3)  # a UV layout in one corner
+    save_obj(tmp_path / "elsewhere.obj", flat)
+    code = main(["bake", str(tmp_path / "face.wrinkle"), "--high",
+                 str(tmp_path / "elsewhere.obj"), "--png", str(tmp_path / "x.png")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "elsewhere.obj" in err and "UV layout differs" in err
+    assert not (tmp_path / "x.png").exists()
