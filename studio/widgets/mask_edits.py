@@ -238,44 +238,35 @@ def rename_area(doc: Document, index: int, name: str) -> bool:
     return True
 
 
-def set_area_visible(doc: Document, index: int, visible: bool) -> None:
+def _set_area_value(doc: Document, index: int, attr: str, value, text: str,
+                    signal=None) -> None:
+    """One property of an area as one undo step; ``signal`` tells the views what changed."""
     area = doc.project.influence.areas[index]
-    if area.visible == visible:
+    if getattr(area, attr) == value:
         return
 
-    def apply(v: bool) -> None:
-        area.visible = v
-        doc.activationsChanged.emit()
+    def apply(v) -> None:
+        setattr(area, attr, v)
+        if signal is not None:
+            signal.emit()
 
-    doc.undo_stack.push(AreaValueCommand(doc, area, f"{'Show' if visible else 'Hide'} "
-                                         f"{area.name}", lambda: area.visible, apply, visible))
+    doc.undo_stack.push(AreaValueCommand(doc, area, f"{text} {area.name}",
+                                         lambda: getattr(area, attr), apply, value))
+
+
+def set_area_visible(doc: Document, index: int, visible: bool) -> None:
+    _set_area_value(doc, index, "visible", visible, "Show" if visible else "Hide",
+                    doc.activationsChanged)
 
 
 def set_area_map(doc: Document, index: int, wrinkle_map: str) -> None:
     """Which wrinkled normal map the area reveals (by name; "" = the first map)."""
-    area = doc.project.influence.areas[index]
-    if area.wrinkle_map == wrinkle_map:
-        return
-
-    def apply(v: str) -> None:
-        area.wrinkle_map = v
-        doc.areasChanged.emit()
-
-    doc.undo_stack.push(AreaValueCommand(doc, area, f"Wrinkled map of {area.name}",
-                                         lambda: area.wrinkle_map, apply, wrinkle_map))
+    _set_area_value(doc, index, "wrinkle_map", wrinkle_map, "Wrinkled map of",
+                    doc.areasChanged)
 
 
 def set_area_colour(doc: Document, index: int, colour: tuple[int, int, int]) -> None:
-    area = doc.project.influence.areas[index]
-    colour = tuple(int(c) for c in colour)
-    if area.colour == colour:
-        return
-
-    def apply(v) -> None:
-        area.colour = v
-
-    doc.undo_stack.push(AreaValueCommand(doc, area, f"Colour {area.name}",
-                                         lambda: area.colour, apply, colour))
+    _set_area_value(doc, index, "colour", tuple(int(c) for c in colour), "Colour")
 
 
 class LinksCommand(QUndoCommand):
