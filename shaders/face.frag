@@ -24,6 +24,9 @@ in float v_skin;
 
 uniform sampler2D u_diffuse;
 uniform sampler2D u_normals;          // rg: neutral map's xy, ba: first wrinkled map's xy
+#ifndef WRINKLE_MAPS
+#define WRINKLE_MAPS 4   // the face's number of wrinkled maps: no code for maps it lacks
+#endif
 uniform sampler2DArray u_more_maps;   // rg: xy of wrinkled maps 1, 2, 3 (layer = map - 1)
 uniform int u_view_mode;              // 0 shaded, 1 wrinkle heat map, 2 normals, 3 UV checker
 
@@ -125,14 +128,14 @@ void main() {
     vec3 n_neutral = normalize(tbn * unpack_normal(normals.xy));
     vec3 n_sum = n_neutral * (1.0 - total);
 #ifdef BLEND_NORMALS
-    for (int m = 0; m < 4; ++m) {
+    for (int m = 0; m < WRINKLE_MAPS; ++m) {
         if (w[m] > 0.0) n_sum += w[m] * normalize(tbn * wrinkled_normal(m, normals, uv));
     }
     vec3 n = normalize(n_sum);
     vec3 colour = shade(albedo, n, view_dir);
 #else
     vec3 colour = shade(albedo, n_neutral, view_dir) * (1.0 - total);
-    for (int m = 0; m < 4; ++m) {
+    for (int m = 0; m < WRINKLE_MAPS; ++m) {
         if (w[m] > 0.0) {
             vec3 n_m = normalize(tbn * wrinkled_normal(m, normals, uv));
             colour += w[m] * shade(albedo, n_m, view_dir);   // the thesis's colour blend

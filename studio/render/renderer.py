@@ -112,6 +112,7 @@ class FaceRenderer:
         self._activations: moderngl.Texture | None = None
         self._activation_values = np.zeros(1, np.float32)
         self._area_maps = np.zeros(0, np.float32)  # wrinkled-map index of each technique-1 area
+        self._map_count = 1  # wrinkled maps of the current textures
         self._t1_index: moderngl.Texture | None = None
         self._t1_slot_weight: moderngl.Texture | None = None
         self._t1_weight: moderngl.Texture | None = None
@@ -200,7 +201,10 @@ class FaceRenderer:
                 created[name] = tex
                 tex.build_mipmaps()
                 tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-                tex.anisotropy = 8.0
+                # further wrinkled maps: trilinear only. A software renderer fetches them on
+                # every pixel (it runs both sides of a branch), and 8x anisotropic fetches of
+                # them doubled the cost of a frame; the first map keeps full filtering
+                tex.anisotropy = 1.0 if name == "more_maps" else 8.0
                 tex.repeat_x = tex.repeat_y = False
                 if self.ctx.error == "GL_OUT_OF_MEMORY":
                     raise MemoryError("GL_OUT_OF_MEMORY")
@@ -215,6 +219,7 @@ class FaceRenderer:
             if old is not None:
                 old.release()
             self._textures[name] = tex
+        self._map_count = len(textures.wrinkle_maps)  # compiled into the face programs
         # the wrinkle heights follow these maps; integrated once, when a relief first draws
         # (a fraction of a second at 1024², never per frame)
         self._relief_maps = (textures.normal_neutral, list(textures.wrinkle_maps.values()))
@@ -417,7 +422,7 @@ class FaceRenderer:
         ctx.enable(moderngl.DEPTH_TEST)
         view = camera.view_matrix()
         proj = camera.projection_matrix(viewport[2] / max(viewport[3], 1))
-        key = settings.program_key()
+        key = (*settings.program_key(), f"WRINKLE_MAPS {self._map_count}")
         prog = self._program(key)
         self._set_uniforms(prog, view, proj, settings, viewport)
         self._bind_textures()
