@@ -216,3 +216,20 @@ def test_a_painted_rectangle_recomposes_like_a_full_upload(sample, gl_context):
     expected = fresh.render(RenderSettings(technique="t1"), weights)
     fresh.release()
     assert np.array_equal(after_dab, expected)
+
+
+def test_recomposing_only_the_changed_areas_equals_a_full_recompose(sample, gl_context):
+    """Activations change a few areas a frame; only their masks' boxes are recomposed, and the
+    picture must equal a renderer that recomposed everything."""
+    weights = [{"surprise": 1.0}, {"surprise": 0.4, "squeeze": 0.7}, {"frown": 1.0}, {}]
+    animated = OffscreenStudio(sample, W, H, ctx=gl_context)
+    try:
+        for w in weights:
+            image = animated.render(RenderSettings(technique="t1"), w)
+            fresh = OffscreenStudio(sample, W, H, ctx=gl_context)
+            try:
+                assert np.array_equal(image, fresh.render(RenderSettings(technique="t1"), w))
+            finally:
+                fresh.release()
+    finally:
+        animated.release()

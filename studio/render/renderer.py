@@ -83,6 +83,17 @@ class RenderSettings:
         return tuple(defines)
 
 
+def mask_boxes(masks: np.ndarray) -> np.ndarray:
+    """(N, 4) int64 bounding box x0, y0, x1, y1 (end exclusive) of each mask's non-zero
+    texels; (0, 0, 0, 0) for an empty mask."""
+    _, h, w = masks.shape
+    rows, cols = masks.any(axis=2), masks.any(axis=1)
+    boxes = np.stack([cols.argmax(axis=1), rows.argmax(axis=1),
+                      w - cols[:, ::-1].argmax(axis=1), h - rows[:, ::-1].argmax(axis=1)], axis=1)
+    boxes[~rows.any(axis=1)] = 0
+    return boxes.astype(np.int64)
+
+
 def _texture_dtype(image: np.ndarray) -> str:
     return "nu2" if image.dtype == np.uint16 else "f1"
 
@@ -288,6 +299,7 @@ class FaceRenderer:
                 self._masks.repeat_x = self._masks.repeat_y = False
                 self._masks.filter = (moderngl.LINEAR, moderngl.LINEAR)
             self._mask_bytes = data  # kept to rebuild the sparse form of a painted rectangle
+            self._area_boxes = mask_boxes(data)
             self._area_count = n
             self._set_sparse_masks(data)
         except (moderngl.Error, MemoryError) as exc:
@@ -323,6 +335,11 @@ class FaceRenderer:
         h, w = data.shape
         self._masks.write(data.tobytes(), viewport=(x, y, layer, w, h, 1))
         self._mask_bytes[layer, y:y + h, x:x + w] = data
+        box = self._area_boxes[layer]
+        if box[2] > box[0]:  # grow the layer's box to the painted rectangle
+            box[:] = min(box[0], x), min(box[1], y), max(box[2], x + w), max(box[3], y + h)
+        else:
+            box[:] = x, y, x + w, y + h
         sparse = sparse_masks(self._mask_bytes[:, y:y + h, x:x + w])
         self._t1_index.write(sparse.indices.tobytes(), viewport=(x, y, w, h))
         self._t1_slot_weight.write(sparse.weights.tobytes(), viewport=(x, y, w, h))
@@ -345,17 +362,29 @@ class FaceRenderer:
         """Technique 1's activation vector; nothing is uploaded or recomposed if unchanged."""
         values = np.zeros(max(self._area_count, 1), np.float32)
         values[: len(activations)] = activations
-        if np.array_equal(values, self._activation_values):
+        old = self._activation_values
+        if np.array_equal(values, old):
             return
         self._activation_values = values
-        self._upload_activations()
+        if len(old) != len(values):
+            self._upload_activations()
+            return
+        # recompose only where the areas whose activation changed have any mask (an animation
+        # moves a few areas a frame; the whole weight texture would cost the same every time)
+        boxes = self._area_boxes[np.flatnonzero(values != old)]
+        boxes = boxes[boxes[:, 2] > boxes[:, 0]]
+        self._upload_activations(recompose=False)
+        if len(boxes):
+            x0, y0 = boxes[:, :2].min(axis=0)
+            x1, y1 = boxes[:, 2:].max(axis=0)
+            self._mark_t1_region(int(x0), int(y0), int(x1 - x0), int(y1 - y0))
 
     def set_area_maps(self, maps: np.ndarray) -> None:
         """Which wrinkled map (index) each technique-1 area reveals, in area order."""
         self._area_maps = np.asarray(maps, np.float32)
         self._upload_activations()
 
-    def _upload_activations(self) -> None:
+    def _upload_activations(self, recompose: bool = True) -> None:
         values = self._activation_values
         texels = np.zeros((len(values), 2), np.float32)
         texels[:, 0] = values
@@ -367,8 +396,9 @@ class FaceRenderer:
             self._activations = self.ctx.texture((len(values), 1), 2, dtype="f4")
             self._activations.filter = (moderngl.NEAREST, moderngl.NEAREST)
         self._activations.write(texels.tobytes())
-        self._t1_dirty = True
-        self._t1_dirty_rect = None
+        if recompose:
+            self._t1_dirty = True
+            self._t1_dirty_rect = None
 
     def set_wdv(self, slots: WdvSlots, expression_factor: float = 1.0,
                 scale_free: bool = True) -> None:
