@@ -1,14 +1,24 @@
-"""Autosave → crash → recovery, the .bak of a second save, and the undo memory budget."""
+"""Autosave → crash → recovery, the .bak of a second save, autosaving on a worker thread, and
+the undo memory budget."""
 
 from __future__ import annotations
 
+import itertools
+import json
+import threading
+import time
+
 import numpy as np
 import pytest
+from PySide6.QtCore import QTimer
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
+from studio.core import project_file
+from studio.core.brush import Brush
 from studio.core.project_file import backup_path, load_project
 from studio.widgets.autosave import INTERVAL_KEY, find_recoveries, recovery_dir
 from studio.widgets.main_window import MainWindow, settings
+from studio.widgets.mask_edits import PaintSession
 from studio.widgets.undo_budget import DROPPED_PREFIX, install_undo_budget
 
 
@@ -110,6 +120,159 @@ def test_unmodified_document_is_not_autosaved(qtbot, sample, dialogs, fast_autos
     _close(w)
 
 
+class _HeldWriter:
+    """Replaces save_project: a write on a thread other than the GUI thread waits until the
+    test lets it go, so that the test can edit the document while an autosave is writing."""
+
+    def __init__(self) -> None:
+        self.started = threading.Event()
+        self.release = threading.Event()
+        self.threads: list[threading.Thread] = []
+        self.real = project_file.save_project
+
+    def __call__(self, project, path, backup=True) -> None:
+        if threading.current_thread() is not threading.main_thread():
+            self.threads.append(threading.current_thread())
+            self.started.set()
+            self.release.wait(20)
+        self.real(project, path, backup=backup)
+
+
+@pytest.fixture
+def held_writer(monkeypatch):
+    writer = _HeldWriter()
+    monkeypatch.setattr(project_file, "save_project", writer)
+    yield writer
+    writer.release.set()
+
+
+def _stroke(doc, index: int) -> None:
+    """A brush stroke across the middle of an area's mask (written into the mask in place)."""
+    h, w = doc.project.influence.areas[index].mask.shape
+    session = PaintSession(doc, index, Brush(radius=w / 8))
+    session.jump(w * 0.3, h * 0.5)
+    session.to(w * 0.7, h * 0.5)
+    assert session.end() is not None
+
+
+def test_autosave_writes_a_snapshot_off_the_gui_thread(qtbot, sample, dialogs, fast_autosave,
+                                                        held_writer):
+    w = _open(qtbot, sample)
+    doc = w.doc
+    doc.set_pose_weight("frown", 0.6)
+    doc.project.wdv.expression_factor = 0.7
+    masks = [a.mask.copy() for a in doc.project.influence.areas]  # what the snapshot holds
+    directions = doc.project.wdv.areas[0].directions.copy()
+    qtbot.waitUntil(held_writer.started.is_set, timeout=10000)
+    w.autosaver.timer.stop()  # this test looks at one autosave
+    assert held_writer.threads[0] is not threading.main_thread()
+    assert w.autosaver.writing and w.autosaver.autosaves == 0
+
+    # the artist goes on while it writes: the GUI thread is free, and its edits change arrays
+    # in place (the stroke writes into the mask, the WDV edit into the directions)
+    _stroke(doc, 0)
+    doc.project.wdv.areas[0].directions[:] = 0.0
+    doc.set_pose_weight("frown", 0.9)
+    doc.set_expression_factor(0.2)
+    assert not np.array_equal(doc.project.influence.areas[0].mask, masks[0])
+
+    held_writer.release.set()
+    qtbot.waitUntil(lambda: w.autosaver.autosaves == 1, timeout=10000)
+    assert not w.autosaver.writing
+    recovered = load_project(w.autosaver.project_file)
+    assert recovered.view["pose_weights"]["frown"] == pytest.approx(0.6)
+    assert recovered.wdv.expression_factor == pytest.approx(0.7)
+    for area, mask in zip(recovered.influence.areas, masks, strict=True):
+        assert np.abs(area.mask - mask).max() <= 1 / 65535
+    assert np.array_equal(recovered.wdv.areas[0].directions, directions)
+    meta = json.loads(w.autosaver.project_file.with_suffix(".json").read_text("utf-8"))
+    assert meta["name"] == "Sample face" and meta["original"] is None
+
+    # the edits made during the write are autosaved next time
+    w.autosaver.autosave()
+    qtbot.waitUntil(lambda: w.autosaver.autosaves == 2, timeout=10000)
+    recovered = load_project(w.autosaver.project_file)
+    assert recovered.view["pose_weights"]["frown"] == pytest.approx(0.9)
+    assert np.abs(recovered.influence.areas[0].mask
+                  - doc.project.influence.areas[0].mask).max() <= 1 / 65535
+    _close(w)
+
+
+def test_saving_during_an_autosave_leaves_no_recovery_file(qtbot, sample, dialogs, fast_autosave,
+                                                           held_writer, tmp_path):
+    w = _open(qtbot, sample)
+    w.doc.set_pose_weight("frown", 0.6)
+    qtbot.waitUntil(held_writer.started.is_set, timeout=10000)
+    assert w.save_to(tmp_path / "face.wrinkle")  # saved while the autosave still writes
+    held_writer.release.set()
+    qtbot.waitUntil(lambda: not w.autosaver.writing, timeout=10000)
+    recovery = w.autosaver.project_file
+    assert not recovery.exists() and not recovery.with_suffix(".json").exists()
+    assert w.autosaver.autosaves == 0
+    assert load_project(tmp_path / "face.wrinkle").view["pose_weights"]["frown"] == \
+        pytest.approx(0.6)
+    _close(w)
+
+
+def test_closing_during_an_autosave_leaves_no_recovery_file(qtbot, sample, dialogs,
+                                                            fast_autosave, held_writer):
+    w = _open(qtbot, sample)
+    w.doc.set_pose_weight("frown", 0.6)
+    qtbot.waitUntil(held_writer.started.is_set, timeout=10000)
+    recovery = w.autosaver.project_file
+    threading.Timer(0.2, held_writer.release.set).start()  # the write ends during the close
+    _close(w)
+    qtbot.waitUntil(lambda: not recovery.with_suffix(".lock").exists(), timeout=10000)
+    assert not recovery.exists() and find_recoveries() == []
+
+
+@pytest.mark.slow
+def test_autosave_gui_thread_figures(qtbot, sample, dialogs, fast_autosave):
+    """The figures in docs/reliability.md (``pytest -m slow -s -k figures``): how long one
+    autosave holds the GUI thread, before (everything on it) and now (snapshot + worker), and
+    the longest pause of the event loop while the worker writes."""
+    w = _open(qtbot, sample)
+    w.resize(800, 600)
+    saver, doc = w.autosaver, w.doc
+    saver.timer.stop()
+    ticks: list[float] = []
+    timer = QTimer()
+    timer.timeout.connect(lambda: ticks.append(time.perf_counter()))
+    timer.start(2)
+
+    def longest_pause(start: float) -> float:
+        times = [start, *(t for t in ticks if t >= start), time.perf_counter()]
+        return max(b - a for a, b in itertools.pairwise(times)) * 1000
+
+    def timed(work) -> tuple[float, float]:
+        wall, cpu = time.perf_counter(), time.thread_time()
+        work()
+        return (time.perf_counter() - wall) * 1000, (time.thread_time() - cpu) * 1000
+
+    def synchronous() -> None:  # what autosave() did before
+        saver.folder.mkdir(parents=True, exist_ok=True)
+        doc.store_view_state()
+        project_file.save_project(doc.project, saver.project_file, backup=False)
+
+    for run in range(5):
+        doc.set_pose_weight("frown", 0.1 + run / 10)
+        qtbot.wait(300)
+        before = timed(synchronous)
+        doc.set_pose_weight("frown", 0.15 + run / 10)
+        qtbot.wait(300)
+        start = time.perf_counter()
+        after = timed(lambda: saver.autosave())
+        qtbot.waitUntil(lambda r=run: saver.autosaves == r + 1, timeout=60000)
+        write = (time.perf_counter() - start) * 1000
+        qtbot.wait(100)
+        print(f"\nautosave {run}: before {before[0]:.0f} ms on the GUI thread ({before[1]:.0f} ms "
+              f"CPU) | now {after[0]:.1f} ms ({after[1]:.1f} ms CPU), the worker wrote for "
+              f"{write:.0f} ms, longest event-loop pause meanwhile {longest_pause(start):.0f} ms")
+    timer.stop()
+    assert load_project(saver.project_file).view["pose_weights"]["frown"] == pytest.approx(0.55)
+    _close(w)
+
+
 class _Stroke(QUndoCommand):
     """A stand-in for a paint stroke holding a before/after patch."""
 
@@ -141,3 +304,75 @@ def test_undo_budget_drops_the_oldest_steps(qtbot):
     assert stack.count() == 10 and stack.index() == 0
     stack.redo()
     assert stack.index() == 1
+
+
+class _Value(QUndoCommand):
+    """A mergeable edit whose size grows as it merges (like a stroke that goes on)."""
+
+    def __init__(self, size: int, key: int = 1) -> None:
+        super().__init__("Value")
+        self.data = np.ones(size, np.uint8)
+        self.key = key
+
+    def id(self) -> int:
+        return self.key
+
+    def mergeWith(self, other: QUndoCommand) -> bool:
+        self.data = np.concatenate([self.data, other.data])
+        return True
+
+    def redo(self) -> None:
+        pass
+
+    def undo(self) -> None:
+        pass
+
+
+def test_undo_budget_keeps_count_through_every_kind_of_change(qtbot):
+    """The budget measures only the steps that changed; its running total must still equal a
+    fresh measurement after pushes, merges, undo, redo, jumps, obsolete steps and clear."""
+    stack = QUndoStack()
+    budget = install_undo_budget(stack, budget=6 << 20)
+
+    def check() -> None:
+        assert budget.tracked_bytes() == budget.total_bytes()
+        assert budget.total_bytes() <= 6 << 20 or stack.index() <= 1
+
+    for _ in range(8):
+        stack.push(_Stroke(1 << 19))
+        check()
+    stack.push(_Value(1 << 18))  # merges grow the newest step
+    for _ in range(3):
+        stack.push(_Value(1 << 18))
+        check()
+    stack.undo()
+    stack.undo()
+    check()
+    stack.push(_Stroke(1 << 20))  # drops the two redo steps
+    check()
+    stack.setIndex(2)  # a click in the History panel
+    check()
+    stack.setIndex(stack.count())
+    check()
+    obsolete = _Stroke(1 << 20)
+    stack.push(obsolete)
+    obsolete.setObsolete(True)  # a command may declare itself void; undo then deletes it
+    stack.undo()
+    check()
+    for size in (3 << 18, 1 << 18, 1 << 19):
+        stack.push(_Stroke(size))
+    for _ in range(3):
+        stack.undo()
+    stack.command(stack.index()).setObsolete(True)  # the jump's first redo deletes it
+    stack.setIndex(stack.count())
+    check()
+    for _ in range(40):  # well past the budget: the oldest steps go
+        stack.push(_Stroke(1 << 20))
+        check()
+    assert budget.dropped > 0 and budget.total_bytes() <= 6 << 20
+    while stack.canUndo():
+        stack.undo()
+        check()
+    stack.clear()
+    check()
+    assert budget.tracked_bytes() == 0

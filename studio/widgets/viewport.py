@@ -150,7 +150,12 @@ class Viewport(QOpenGLWidget):
             return
         start = time.perf_counter()
         self._apply_pending()
-        fbo = self.ctx.detect_framebuffer(self.defaultFramebufferObject())
+        # detected once per Qt framebuffer: moderngl 5 never frees a detected one (~400 B a frame)
+        key = (self.ctx, self.defaultFramebufferObject(), self.width(), self.height(),
+               self.devicePixelRatioF())
+        if getattr(self, "_fbo_key", None) != key:
+            self._fbo, self._fbo_key = self.ctx.detect_framebuffer(key[1]), key
+        fbo = self._fbo
         ratio = self.devicePixelRatioF()
         w, h = round(self.width() * ratio), round(self.height() * ratio)
         view = self.doc.view
