@@ -9,6 +9,7 @@ import io
 import json
 import os
 import struct
+import time
 import zipfile
 import zlib
 from collections.abc import Callable
@@ -750,3 +751,21 @@ def test_png_problems_raise_png_error() -> None:
         assert name
     with pytest.raises(PngError):
         encode_png(np.zeros((4, 4), np.float32))
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="reads /proc (Linux)")
+def test_a_reused_process_id_does_not_keep_a_dead_saves_staging_file() -> None:
+    """Ids wrap around on a busy machine: a thread, or a process started after the file was
+    made, is not the save that made it."""
+    import threading
+
+    from studio.core.project_file import _process_alive
+
+    assert _process_alive(os.getpid(), time.time())  # this process, file made just now
+    assert not _process_alive(os.getpid(), time.time() - 1e7)  # file older than the process
+    seen: list[bool] = []
+    thread = threading.Thread(
+        target=lambda: seen.append(_process_alive(threading.get_native_id(), time.time())))
+    thread.start()
+    thread.join()
+    assert seen == [False]
