@@ -21,11 +21,11 @@ from studio.render.renderer import RenderSettings
 OUT = Path(__file__).resolve().parent.parent / "docs" / "images"
 PANELS = [
     ("surprise · no wrinkles", "none", "surprise", "shaded"),
-    ("surprise · technique 2", "t2", "surprise", "shaded"),
-    ("surprise · technique 1", "t1", "surprise", "shaded"),
-    ("squeeze · technique 2", "t2", "squeeze", "shaded"),
-    ("frown · technique 2", "t2", "frown", "shaded"),
-    ("squeeze · t2 visibility", "t2", "squeeze", "heat"),
+    ("surprise · technique 2 · brow map", "t2", "surprise", "shaded"),
+    ("surprise · technique 1 · brow map", "t1", "surprise", "shaded"),
+    ("squeeze · technique 2 · eyes & cheeks map", "t2", "squeeze", "shaded"),
+    ("frown · technique 2 · brow map", "t2", "frown", "shaded"),
+    ("surprise · automatic (strain), no authoring", "strain", "surprise", "shaded"),
 ]
 
 
@@ -62,7 +62,8 @@ def silhouette(project: Project) -> None:
 
 
 def sample_techniques(project: Project) -> None:
-    """Both techniques on the surprise, squeeze and frown poses, and a heat map."""
+    """Both techniques on the surprise, squeeze and frown poses (each area revealing one of the
+    sample's two wrinkled maps), and the automatic mode."""
     size = (420, 440)
     with OffscreenStudio(project, *size) as studio:
         studio.camera.yaw = 12.0
