@@ -74,6 +74,7 @@ class UndoBudget(QObject):
         self._sizes: list[int | None] = []  # bytes of each command in the stack; None: obsolete
         self._total = 0  # sum of the known sizes
         self._index = 0  # the stack's index when the sizes were last brought up to date
+        self._bottom = 0  # commands below this one are all dropped (or obsolete)
         stack.indexChanged.connect(self._index_changed)
 
     @Slot(int)
@@ -101,6 +102,7 @@ class UndoBudget(QObject):
             first = 0
         self._total -= sum(size for size in self._sizes[first:] if size is not None)
         del self._sizes[first:]
+        self._bottom = min(self._bottom, first)
         for i in range(first, count):
             command = stack.command(i)
             size = None if command.isObsolete() else command_bytes(command)
@@ -121,7 +123,7 @@ class UndoBudget(QObject):
         self._sync(stack)
         sizes = self._sizes
         dropped = 0
-        i = 0
+        i = self._bottom
         while self._total > self.budget and i < self._index - 1:
             if sizes[i] is not None:
                 self._total -= sizes[i]
@@ -129,6 +131,8 @@ class UndoBudget(QObject):
                 _drop(stack.command(i))
                 dropped += 1
             i += 1
+        if dropped:
+            self._bottom = i
         self.dropped += dropped
         return dropped
 
