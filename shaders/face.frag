@@ -134,14 +134,17 @@ void main() {
     vec3 n = normalize(n_sum);
     vec3 colour = shade(albedo, n, view_dir);
 #else
-    vec3 colour = shade(albedo, n_neutral, view_dir) * (1.0 - total);
+    // the thesis's blend of shaded colours, as the same blend of the light each normal receives
+    // (common.glsl: the weights sum to 1, so the ambient term is whole)
+    vec2 received = light(n_neutral, view_dir) * (1.0 - total);
     for (int m = 0; m < WRINKLE_MAPS; ++m) {
         if (w[m] > 0.0) {
             vec3 n_m = normalize(tbn * wrinkled_normal(m, normals, uv));
-            colour += w[m] * shade(albedo, n_m, view_dir);   // the thesis's colour blend
+            received += w[m] * light(n_m, view_dir);
             n_sum += w[m] * n_m;
         }
     }
+    vec3 colour = albedo * (u_ambient + received.x) + vec3(received.y);
     vec3 n = normalize(n_sum);
 #endif
 #endif

@@ -8,12 +8,13 @@ tangents (one interleaved buffer write) and the draw.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
 
 from studio.core.camera import OrbitCamera
+from studio.core.draw_split import moved
 from studio.core.geometry import DeformCache
 from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
@@ -22,6 +23,7 @@ from studio.core.strain import DEFAULT_FULL_AT, StrainField
 from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
 from studio.core.wdv import SLOTS, WdvSlots
 from studio.render.shaders import build_program
+from studio.render.triangle_split import TriangleSplit
 
 TECHNIQUES = ("flat", "none", "t1", "t2", "strain")
 VIEW_MODES = {"shaded": 0, "heat": 1, "normals": 2, "uv": 3}
@@ -135,6 +137,7 @@ class FaceRenderer:
         self._geometry_dirty = False
         self.last_deform_ms = 0.0  # CPU time of the last normals + tangents update
         self.expression_factor = 1.0
+        self.split_draws = True  # plain shading for triangles that cannot wrinkle (same picture)
         self.scale_free = True
         self._relief: moderngl.Texture | None = None  # wrinkle heights, made on first use
         self._relief_maps: tuple[np.ndarray, list[np.ndarray]] | None = None  # due from these
@@ -163,6 +166,10 @@ class FaceRenderer:
         self._strain_field = StrainField(mesh)
         self._strain = self.ctx.buffer(reserve=v * 4, dynamic=True)
         self._strain_key: tuple[int, float] | None = None  # (positions version, full_at)
+        self._render_strain = np.zeros(len(mesh.weld), np.float32)
+        self._split = TriangleSplit(self._ibo, mesh.triangles, mesh.uvs, mesh.rest[mesh.weld])
+        if self._masks is not None:
+            self._split.set_area_boxes(self._area_boxes, *self._masks.size[:2])
         self._buffers = [self._ibo, self._dynamic, self._static, self._wdv, self._strain,
                          self._skin]
         self._positions = mesh.rest.copy()
@@ -178,7 +185,9 @@ class FaceRenderer:
 
     def set_skin(self, skin: np.ndarray) -> None:
         """(W,) per welded vertex: 1 where wrinkles may show, 0 on not-face vertices."""
-        self._skin.write(np.asarray(skin, "f4")[self.mesh.weld].tobytes())
+        render_skin = np.asarray(skin, "f4")[self.mesh.weld]
+        self._skin.write(render_skin.tobytes())
+        self._split.set_skin(render_skin)
 
     def set_textures(self, textures: FaceTextures) -> None:
         """Diffuse map; the neutral and first wrinkled normal maps packed into one texture (one
@@ -301,6 +310,8 @@ class FaceRenderer:
             self._mask_bytes = data  # kept to rebuild the sparse form of a painted rectangle
             self._area_boxes = mask_boxes(data)
             self._area_count = n
+            if self.mesh is not None:
+                self._split.set_area_boxes(self._area_boxes, w, h)
             self._set_sparse_masks(data)
         except (moderngl.Error, MemoryError) as exc:
             raise RenderError(f"the GPU cannot hold {n} influence masks of {w}×{h} pixels "
@@ -340,6 +351,7 @@ class FaceRenderer:
             box[:] = min(box[0], x), min(box[1], y), max(box[2], x + w), max(box[3], y + h)
         else:
             box[:] = x, y, x + w, y + h
+        self._split.set_area_box(layer, box)
         sparse = sparse_masks(self._mask_bytes[:, y:y + h, x:x + w])
         self._t1_index.write(sparse.indices.tobytes(), viewport=(x, y, w, h))
         self._t1_slot_weight.write(sparse.weights.tobytes(), viewport=(x, y, w, h))
@@ -407,6 +419,8 @@ class FaceRenderer:
         packed = np.hstack([slots.dirs.reshape(len(slots.dirs), -1)[weld],
                             slots.cones[weld], slots.maps[weld]]).astype("f4")
         self._wdv.write(packed.tobytes())
+        in_use = (slots.dirs[..., 3] > 0) & (slots.cones > 0)
+        self._split.set_slots(in_use.any(axis=1)[weld])
         self.expression_factor = float(expression_factor)
         self.scale_free = bool(scale_free)
 
@@ -452,24 +466,58 @@ class FaceRenderer:
         ctx.enable(moderngl.DEPTH_TEST)
         view = camera.view_matrix()
         proj = camera.projection_matrix(viewport[2] / max(viewport[3], 1))
-        key = (*settings.program_key(), f"WRINKLE_MAPS {self._map_count}")
-        prog = self._program(key)
-        self._set_uniforms(prog, view, proj, settings, viewport)
         self._bind_textures()
-        if relief == "displace":
+        self._split.set_view(view)
+        if relief == "displace":  # one program: the tessellated and flat edges would not meet
+            self._split.order(None)
             ctx.patch_vertices = 3
-            self._vao(key).render(moderngl.PATCHES)
+            self._vao(self._face_program(settings, view, proj, viewport)).render(moderngl.PATCHES)
         else:
-            self._vao(key).render(moderngl.TRIANGLES)
+            self._draw_split(settings, view, proj, viewport)
         if settings.wireframe:
             self._draw_wireframe(view, proj)
+
+    def _face_program(self, settings: RenderSettings, view: np.ndarray, proj: np.ndarray,
+                      viewport: tuple[int, int, int, int]) -> tuple[str, ...]:
+        """The face program for ``settings``, its uniforms set; returns its key."""
+        key = (*settings.program_key(), f"WRINKLE_MAPS {self._map_count}")
+        self._set_uniforms(self._program(key), view, proj, settings, viewport)
+        return key
+
+    def _draw_split(self, settings: RenderSettings, view: np.ndarray, proj: np.ndarray,
+                    viewport: tuple[int, int, int, int]) -> None:
+        """The triangles that can show wrinkles with the technique's program, the rest with
+        the technique-off program (the same picture there, without the wrinkle shading)."""
+        count = self._split.order(self._wrinkled_triangles(settings) if self.split_draws
+                                  else None)
+        total = len(self.mesh.triangles)
+        if count:
+            key = self._face_program(settings, view, proj, viewport)
+            self._vao(key).render(moderngl.TRIANGLES, vertices=3 * count)
+        if count < total:
+            key = self._face_program(replace(settings, technique="none"), view, proj, viewport)
+            self._vao(key).render(moderngl.TRIANGLES, vertices=3 * (total - count),
+                                  first=3 * count)
+
+    def _wrinkled_triangles(self, settings: RenderSettings) -> np.ndarray | None:
+        """(T,) the triangles whose wrinkle weight can be above 0 this frame (None: all)."""
+        technique = settings.technique
+        if technique == "t1":
+            return self._split.for_areas(self._activation_values)
+        if technique == "t2":
+            return self._split.for_slots(self._positions_version, lambda: moved(
+                self._positions, self.mesh.rest)[self.mesh.weld])
+        if technique == "strain":
+            return self._split.for_weights(self._strain_key, lambda: self._render_strain)
+        return None
 
     def _update_strain(self, full_at: float) -> None:
         """Compression weights for this frame's pose (only when the pose or gain changed)."""
         key = (self._positions_version, full_at)
         if key != self._strain_key:
             weights = self._strain_field.weights(self._positions, full_at)
-            self._strain.write(weights[self.mesh.weld].astype("f4").tobytes())
+            self._render_strain = weights[self.mesh.weld].astype("f4")
+            self._strain.write(self._render_strain.tobytes())
             self._strain_key = key
 
     def _compose_t1(self) -> None:
