@@ -12,7 +12,7 @@ from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw"]
 
 
 def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
@@ -30,6 +30,8 @@ def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
         assert float(row["mean_ms"]) > 0 and float(row["fps_min"]) <= float(row["fps_max"])
     reliefs = {(r["technique"], r["relief"]) for r in rows if r["relief"] != "off"}
     assert reliefs == {(t, r) for t in ("t1", "t2") for r in ("displace", "parallax")}
+    whole = {(r["technique"], int(r["areas"])) for r in rows if r["draw"] == "whole"}
+    assert whole == {("t2", 0), ("t1", 1), ("t1", 16), ("t1", 64)}
     areas = sorted(int(r["areas"]) for r in rows if r["technique"] == "t1")
     assert areas[-1] >= 16
     for plot in ("fps_by_areas.png", "fps_by_vertices.png"):

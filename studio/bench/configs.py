@@ -12,6 +12,8 @@ AREA_MODEL = 2172
 COMPARISON_AREAS = 8  # technique 1 in the vertex comparison
 # wrinkles in depth (issue 10): each relief with both authored techniques, on the area model
 RELIEF_CONFIGS = tuple((t, r) for t in ("t2", "t1") for r in ("parallax", "displace"))
+# every triangle through the wrinkle program, as if wrinkles could show anywhere on the face: the
+# worst case of the split draw, and technique 1's per-pixel cost against the number of areas
 
 # mean frame time (ms) the thesis reports, for the plots
 THESIS_T1_BY_AREAS = {1: 17.4, 2: 17.9, 4: 19.8, 8: 22.9, 12: 26.3, 16: 29.9}
@@ -25,12 +27,14 @@ class Config:
     areas: int  # technique-1 areas (0 for the others)
     vertices: int
     relief: str = "off"  # off | displace | parallax (RenderSettings.relief)
+    draw: str = "split"  # split: plain shading where no wrinkle can show | whole: no split
 
     @property
     def label(self) -> str:
         extra = f", {self.areas} areas" if self.technique == "t1" else ""
         relief = f"+{self.relief}" if self.relief != "off" else ""
-        return f"{self.technique}{relief}{extra}, {self.vertices} vertices"
+        whole = " whole" if self.draw == "whole" else ""
+        return f"{self.technique}{relief}{whole}{extra}, {self.vertices} vertices"
 
 
 def configurations(quick: bool = False) -> list[Config]:
@@ -48,4 +52,6 @@ def configurations(quick: bool = False) -> list[Config]:
             configs += [Config("t1", a, v) for a in by_areas if a != COMPARISON_AREAS]
             configs += [Config(t, COMPARISON_AREAS if t == "t1" else 0, v, relief)
                         for t, relief in RELIEF_CONFIGS]
+            configs += [Config("t2", 0, v, draw="whole")]
+            configs += [Config("t1", a, v, draw="whole") for a in by_areas]
     return configs

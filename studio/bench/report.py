@@ -17,7 +17,7 @@ from studio.bench.configs import (
 from studio.bench.runner import Result
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw"]
 
 
 def table(results: Sequence[Result]) -> str:
@@ -80,20 +80,27 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
         _, py = to_px(x0 if not log_x else 2 ** x0, y)
         draw.line((left, py, w - right, py), fill=(230, 230, 230))
         draw.text((8, py - 6), f"{y:.0f}", fill=(60, 60, 60))
+    last = -math.inf
     for x in sorted({x for x, _ in points}):
         px, _ = to_px(x, 0)
-        draw.text((px - 10, h - bottom + 6), f"{x:g}", fill=(60, 60, 60))
+        if px - last >= 30:  # close values (2091, 2172) would print over each other
+            draw.text((px - 10, h - bottom + 6), f"{x:g}", fill=(60, 60, 60))
+            last = px
     draw.text((left, 12), title, fill=(0, 0, 0))
     draw.text((w // 2 - 40, h - 22), x_label, fill=(0, 0, 0))
     draw.text((8, top - 20), "FPS", fill=(0, 0, 0))
-    for k, (name, pts) in enumerate(series.items()):
+    for k, pts in enumerate(series.values()):
         colour = colours[k % len(colours)]
-        pts = sorted(pts)
-        xy = [to_px(x, y) for x, y in pts]
+        xy = [to_px(x, y) for x, y in sorted(pts)]
         if len(xy) > 1:
             draw.line(xy, fill=colour, width=2)
         for px, py in xy:
             draw.ellipse((px - 3, py - 3, px + 3, py + 3), fill=colour)
+    # the legend on a white box, so that no line runs through it
+    draw.rectangle((w - right - 236, top + 4, w - right - 4, top + 12 + 16 * len(series)),
+                   fill="white", outline=(200, 200, 200))
+    for k, name in enumerate(series):
+        colour = colours[k % len(colours)]
         ly = top + 14 + 16 * k
         draw.line((w - right - 230, ly, w - right - 212, ly), fill=colour, width=3)
         draw.text((w - right - 206, ly - 7), name, fill=colour)
@@ -102,9 +109,14 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
 
 def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
     results = [r for r in results if r.config.relief == "off"]  # reliefs: in the table only
+    whole = [r for r in results if r.config.draw == "whole"]
+    results = [r for r in results if r.config.draw == "split"]
     by_areas = {"ours: t1": [(r.config.areas, float(r.fps.mean())) for r in results
                              if r.config.technique == "t1" and r.config.vertices == AREA_MODEL]}
-    for technique in ("none", "flat"):
+    every = [(r.config.areas, float(r.fps.mean())) for r in whole if r.config.technique == "t1"]
+    if every:  # the per-pixel cost: every triangle through the wrinkle program
+        by_areas["ours: t1, no split draw"] = every
+    for technique in ("none",):  # flat (about 4 × faster) would squash the others: table only
         base = [r for r in results
                 if r.config.technique == technique and r.config.vertices == AREA_MODEL]
         if base and by_areas["ours: t1"]:
@@ -113,7 +125,7 @@ def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
     by_areas["thesis: t1 (GeForce Go 6150)"] = [(a, 1000.0 / ms)
                                                  for a, ms in THESIS_T1_BY_AREAS.items()]
     by_vertices: dict[str, list[tuple[float, float]]] = {}
-    for technique in ("t1", "t2", "strain", "none", "flat"):
+    for technique in ("t1", "t2", "strain", "none"):  # flat: in the table only, as above
         pts = [(r.config.vertices, float(r.fps.mean())) for r in results
                if r.config.technique == technique
                and (technique != "t1" or r.config.areas == COMPARISON_AREAS)]

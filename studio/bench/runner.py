@@ -1,9 +1,10 @@
-"""Times the thesis's per-frame work for one configuration: interpolate the key poses, recompute
-normals and tangents, upload what changed, draw, and wait for the GPU to finish."""
+"""Times the thesis's per-frame work for each configuration: interpolate the key poses,
+recompute normals and tangents, upload what changed, draw, and wait for the GPU to finish."""
 
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import moderngl
@@ -43,7 +44,7 @@ class Result:
                 "mean_ms": round(self.mean_ms, 3), "fps_mean": round(float(fps.mean()), 2),
                 "fps_min": round(float(fps.min()), 2), "fps_max": round(float(fps.max()), 2),
                 "fps_std": round(float(fps.std()), 2), "deform_ms": round(self.deform_ms, 3),
-                "relief": c.relief}
+                "relief": c.relief, "draw": c.draw}
 
 
 def deformation_cpu_ms(project: Project, timeline: Timeline, frames: int,
@@ -66,27 +67,60 @@ def deformation_cpu_ms(project: Project, timeline: Timeline, frames: int,
     return times
 
 
-def time_configuration(ctx: moderngl.Context, project: Project, config: Config, frames: int,
-                       size: tuple[int, int], warmup: int = 3) -> Result:
-    """Run ``frames`` frames of the thesis's evaluation animation (each pose in turn): the frame
-    time is the wall-clock time of the studio's per-frame work, from the pose weights to the GPU
-    having finished drawing."""
-    if config.technique == "t1":
-        poses = [p.name for p in project.poses]
-        project.influence = benchmark_areas(project.influence, config.areas, poses)
-    timeline = sequence_all_poses([p.name for p in project.poses], fps=24.0)
-    studio = OffscreenStudio(project, *size, samples=0, ctx=ctx)
-    settings = RenderSettings(technique=config.technique, relief=config.relief)
-    times = np.empty(frames)
-    try:
-        for i in range(-warmup, frames):
+PASSES = 4  # each configuration's frames come in this many turns, interleaved with the others
+
+
+class _Timed:
+    """One configuration set up to draw: its own project copy, renderer and animation."""
+
+    def __init__(self, ctx: moderngl.Context, project: Project, config: Config,
+                 size: tuple[int, int]) -> None:
+        if config.technique == "t1":
+            poses = [p.name for p in project.poses]
+            project.influence = benchmark_areas(project.influence, config.areas, poses)
+        self.ctx, self.project, self.config, self.size = ctx, project, config, size
+        self.timeline = sequence_all_poses([p.name for p in project.poses], fps=24.0)
+        self.studio = OffscreenStudio(project, *size, samples=0, ctx=ctx)
+        self.studio.renderer.split_draws = config.draw == "split"
+        self.settings = RenderSettings(technique=config.technique, relief=config.relief)
+        self.times: list[float] = []
+        self._frame = 0
+
+    def run(self, frames: int, warmup: int) -> None:
+        """Draw ``warmup`` untimed frames, then time ``frames`` more, continuing the animation:
+        each frame is the wall-clock time of the studio's per-frame work, from the pose weights
+        to the GPU having finished drawing."""
+        studio, timeline = self.studio, self.timeline
+        for i in range(warmup + frames):
             start = time.perf_counter()
-            studio.scene.set_pose_weights(timeline.weights_at(i % timeline.end))
-            studio.renderer.render(studio.target.fbo, studio.camera, settings)
-            ctx.finish()
-            if i >= 0:
-                times[i] = (time.perf_counter() - start) * 1000.0
+            studio.scene.set_pose_weights(timeline.weights_at(self._frame % timeline.end))
+            studio.renderer.render(studio.target.fbo, studio.camera, self.settings)
+            self.ctx.finish()
+            if i >= warmup:
+                self.times.append((time.perf_counter() - start) * 1000.0)
+            self._frame += 1
+
+    def result(self) -> Result:
+        deform = deformation_cpu_ms(self.project, self.timeline, len(self.times))
+        return Result(self.config, *self.size, np.array(self.times), float(deform.mean()))
+
+
+def time_configurations(ctx: moderngl.Context, projects: Sequence[Project],
+                        configs: Sequence[Config], frames: int, size: tuple[int, int],
+                        passes: int = PASSES, warmup: int = 3) -> list[Result]:
+    """Run ``frames`` frames of the thesis's evaluation animation (each pose in turn) for each
+    configuration, with its own copy of the project. The frames come in ``passes`` turns that
+    go round all the configurations, so that a slow spell of a shared machine falls on all of
+    them alike rather than on whichever ran then: the ratios between them are what is judged."""
+    timed = []
+    try:
+        for project, config in zip(projects, configs, strict=True):
+            timed.append(_Timed(ctx, project, config, size))
+        for k, turn in enumerate(np.array_split(np.arange(frames), passes)):
+            for t in timed:
+                if len(turn):  # a frame untimed after the others ran: their caches are warm
+                    t.run(len(turn), warmup if k == 0 else 1)
+        return [t.result() for t in timed]
     finally:
-        studio.release()
-    deform = deformation_cpu_ms(project, timeline, frames)
-    return Result(config, size[0], size[1], times, float(deform.mean()))
+        for t in timed:
+            t.studio.release()

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import platform
+from itertools import groupby
 from pathlib import Path
 
 from studio.cli import parse_size
@@ -23,7 +24,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from studio.bench.configs import configurations
     from studio.bench.report import table, write_csv, write_plots
-    from studio.bench.runner import time_configuration
+    from studio.bench.runner import PASSES, time_configurations
     from studio.core.sample import make_sample
     from studio.render.offscreen import create_standalone_context
 
@@ -39,12 +40,15 @@ def run(args: argparse.Namespace) -> int:
     print(f"machine: {platform.machine()}, {platform.processor() or platform.system()}, "
           f"Python {platform.python_version()}")
     print(f"GL renderer: {ctx.info['GL_RENDERER']} ({ctx.info['GL_VERSION']})")
-    print(f"{frames} frames per configuration at {args.size[0]}x{args.size[1]}")
+    print(f"{frames} frames per configuration at {args.size[0]}x{args.size[1]}, in "
+          f"{PASSES} turns round each face's configurations")
     results = []
-    for config in configurations(args.quick):
-        project = make_sample(config.vertices)
-        results.append(time_configuration(ctx, project, config, frames, args.size))
-        print(table(results[-1:]).splitlines()[-1], flush=True)
+    for vertices, group in groupby(configurations(args.quick), key=lambda c: c.vertices):
+        group = list(group)
+        print(f"timing {len(group)} configurations on the {vertices}-vertex face …", flush=True)
+        projects = [make_sample(vertices) for _ in group]
+        results += time_configurations(ctx, projects, group, frames, args.size)
+        print("\n".join(table(results[-len(group):]).splitlines()[1:]), flush=True)
     print()
     print(table(results))
     write_csv(results, out / "results.csv")
