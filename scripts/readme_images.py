@@ -38,6 +38,16 @@ def labelled(image: np.ndarray, text: str) -> Image.Image:
     return img
 
 
+def contact_sheet(tiles: list[Image.Image], columns: int, name: str) -> None:
+    """Tiles of one size in rows of ``columns``, saved as docs/images/NAME.png."""
+    w, h = tiles[0].size
+    sheet = Image.new("RGB", (w * columns, h * -(-len(tiles) // columns)))
+    for i, tile in enumerate(tiles):
+        sheet.paste(tile, ((i % columns) * w, (i // columns) * h))
+    sheet.save(OUT / f"{name}.png", optimize=True)
+    print(f"wrote {OUT / f'{name}.png'}")
+
+
 def silhouette(project: Project) -> None:
     """Wrinkles in silhouette (issue 10): the surprised forehead in profile, technique 2, with
     relief off and with displacement (tessellation)."""
@@ -54,11 +64,7 @@ def silhouette(project: Project) -> None:
                           label)
                  for label, relief in (("surprise · t2 · relief off", "off"),
                                        ("surprise · t2 · displaced (tessellation)", "displace"))]
-    sheet = Image.new("RGB", (size[0] * len(tiles), size[1]))
-    for i, tile in enumerate(tiles):
-        sheet.paste(tile, (i * size[0], 0))
-    sheet.save(OUT / "silhouette.png", optimize=True)
-    print(f"wrote {OUT / 'silhouette.png'}")
+    contact_sheet(tiles, len(tiles), "silhouette")
 
 
 def sample_techniques(project: Project) -> None:
@@ -71,14 +77,32 @@ def sample_techniques(project: Project) -> None:
         tiles = [labelled(studio.render(RenderSettings(technique=t, view=v),
                                         project.single_pose_weights(p)), label)
                  for label, t, p, v in PANELS]
-    sheet = Image.new("RGB", (size[0] * 3, size[1] * 2))
-    for i, tile in enumerate(tiles):
-        sheet.paste(tile, ((i % 3) * size[0], (i // 3) * size[1]))
-    sheet.save(OUT / "sample_techniques.png", optimize=True)
-    print(f"wrote {OUT / 'sample_techniques.png'}")
+    contact_sheet(tiles, 3, "sample_techniques")
 
 
-IMAGES = {"sample_techniques": sample_techniques, "silhouette": silhouette}
+def blend_modes(project: Project) -> None:
+    """The thesis's blend of two shaded colours beside the faster-on-a-GPU blend of normals
+    (light once), on the surprised forehead with technique 2, and their difference."""
+    size = (420, 300)
+    with OffscreenStudio(project, *size) as studio:
+        camera = studio.camera
+        camera.frame(*project.mesh.bounds())
+        camera.target = sample_landmarks(project)["forehead"]
+        camera.distance *= 0.4
+        weights = project.single_pose_weights("surprise")
+        colour, normal = (studio.render(RenderSettings(technique="t2", blend=b), weights)
+                          for b in ("colour", "normal"))
+    difference = np.abs(colour.astype(int) - normal.astype(int))
+    gain = max(1, 255 // max(int(difference.max()), 1))  # the largest difference shows white
+    tiles = [labelled(colour, "colour blend (the thesis, default)"),
+             labelled(normal, "normal blend (light once)"),
+             labelled(np.clip(difference * gain, 0, 255).astype(np.uint8),
+                      f"difference × {gain} (largest: {difference.max()} of 255)")]
+    contact_sheet(tiles, 3, "blend_modes")
+
+
+IMAGES = {"sample_techniques": sample_techniques, "silhouette": silhouette,
+          "blend_modes": blend_modes}
 
 
 def main(names: list[str]) -> None:

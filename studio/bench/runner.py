@@ -110,14 +110,16 @@ def time_configurations(ctx: moderngl.Context, projects: Sequence[Project],
                         passes: int = PASSES, warmup: int = 3) -> list[Result]:
     """Run ``frames`` frames of the thesis's evaluation animation (each pose in turn) for each
     configuration, with its own copy of the project. The frames come in ``passes`` turns that
-    go round all the configurations, so that a slow spell of a shared machine falls on all of
-    them alike rather than on whichever ran then: the ratios between them are what is judged."""
+    go round all the configurations, each turn starting at another one, so that a slow spell
+    of a shared machine, or a drift through a turn, falls on all of them alike rather than on
+    whichever ran then: the ratios between them are what is judged."""
     timed = []
     try:
         for project, config in zip(projects, configs, strict=True):
             timed.append(_Timed(ctx, project, config, size))
         for k, turn in enumerate(np.array_split(np.arange(frames), passes)):
-            for t in timed:
+            start = k * len(timed) // passes  # each turn starts further on: no configuration
+            for t in timed[start:] + timed[:start]:  # is always first or last in a turn
                 if len(turn):  # a frame untimed after the others ran: their caches are warm
                     t.run(len(turn), warmup if k == 0 else 1)
         return [t.result() for t in timed]
