@@ -21,7 +21,7 @@ def configure_opengl() -> None:
     fmt.setVersion(3, 3)
     fmt.setProfile(QSurfaceFormat.OpenGLContextProfile.CoreProfile)
     fmt.setDepthBufferSize(24)
-    fmt.setSamples(4)
+    fmt.setSamples(0)  # the viewport multisamples its own framebuffer: the user's choice, live
     QSurfaceFormat.setDefaultFormat(fmt)
 
 

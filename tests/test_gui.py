@@ -129,3 +129,37 @@ def test_screenshot_command_writes_the_window(tmp_path):
     image = np.asarray(Image.open(out).convert("RGB"))
     assert image.shape[0] > 400 and image.shape[1] > 600
     assert image.std() > 10  # not a blank window
+
+
+def test_anti_aliasing_off_hardens_only_the_edges_and_is_remembered(window, open_window, qtbot,
+                                                                    sample):
+    from studio.widgets.main_window import settings
+
+    vp = window.viewport
+    assert window.anti_aliasing[4].isChecked() and vp.samples == 4
+    smooth = viewport_image(window)
+    try:
+        frames = vp.frames_rendered
+        window.anti_aliasing[0].trigger()  # View ▸ Anti-Aliasing ▸ Off
+        qtbot.waitUntil(lambda: vp.frames_rendered > frames, timeout=10000)
+        hard = viewport_image(window)
+        changed = np.abs(hard.astype(int) - smooth.astype(int)).max(axis=2) > 8
+        # edges: where the hard image itself jumps between neighbouring pixels
+        grey = hard.astype(int).sum(axis=2)
+        jump = np.zeros_like(changed)
+        jump[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 60
+        jump[1:] |= np.abs(np.diff(grey, axis=0)) > 60
+        near_jump = jump.copy()
+        near_jump[:, :-1] |= jump[:, 1:]
+        near_jump[:-1] |= jump[1:]
+        assert changed.sum() > 200  # the silhouette lost its blended pixels
+        assert (changed & near_jump).sum() > 0.9 * changed.sum()  # and nothing else changed
+        assert int(settings().value("viewport/samples")) == 0
+        again = open_window(sample)  # a new window starts with the remembered choice
+        assert again.anti_aliasing[0].isChecked() and again.viewport.samples == 0
+        assert np.array_equal(viewport_image(again), hard)
+        most = vp.max_samples
+        assert window.anti_aliasing[8].isEnabled() == (most >= 8)
+    finally:
+        window.set_anti_aliasing(4)
+    assert int(settings().value("viewport/samples")) == 4

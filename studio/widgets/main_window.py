@@ -5,12 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 
 from PySide6.QtCore import QSettings, Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
     QLabel,
     QMainWindow,
+    QMenu,
     QMessageBox,
     QUndoView,
     QWidget,
@@ -28,7 +29,7 @@ from studio.widgets.mask_tools import install_mask_tools
 from studio.widgets.pose_panel import PosePanel
 from studio.widgets.shading_panel import ShadingPanel
 from studio.widgets.timeline_tools import install_timeline_tools
-from studio.widgets.viewport import Viewport
+from studio.widgets.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
 from studio.widgets.wdv_tools import install_wdv_tools
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
@@ -171,11 +172,41 @@ class MainWindow(QMainWindow):
             if title != "History":
                 view.addAction(dock.toggleViewAction())
         view.addSeparator()
+        self._anti_aliasing_menu(view.addMenu("&Anti-Aliasing"))
+        view.addSeparator()
         self._action(view, "Reset &Layout", self.reset_layout)
 
         help_menu = bar.addMenu("&Help")
         self._action(help_menu, "&Navigation…", self.show_navigation_help, "F1")
         self._action(help_menu, "&About Wrinkle Studio", self.show_about)
+
+    def _anti_aliasing_menu(self, menu: QMenu) -> None:
+        """Samples per pixel in the viewport, remembered; choices this driver cannot draw are
+        greyed once OpenGL is up. Off is much faster on a software renderer."""
+        group = QActionGroup(self)
+        chosen = int(settings().value("viewport/samples", DEFAULT_SAMPLES))
+        self.anti_aliasing: dict[int, QAction] = {}
+        for samples in ANTI_ALIASING:
+            action = menu.addAction("Off" if samples == 0 else f"{samples}× Multisampling")
+            action.setCheckable(True)
+            action.setChecked(samples == chosen)
+            action.triggered.connect(lambda _=False, n=samples: self.set_anti_aliasing(n))
+            group.addAction(action)
+            self.anti_aliasing[samples] = action
+        self.viewport.set_samples(chosen)
+
+        def grey_unsupported() -> None:
+            most = self.viewport.max_samples
+            for samples, action in self.anti_aliasing.items():
+                action.setEnabled(samples <= most)
+                action.setToolTip("" if samples <= most else f"this driver draws at most {most}")
+
+        self.firstFrame.connect(grey_unsupported)
+
+    def set_anti_aliasing(self, samples: int) -> None:
+        self.viewport.set_samples(samples)
+        self.anti_aliasing[samples].setChecked(True)
+        settings().setValue("viewport/samples", samples)
 
     # --- status --------------------------------------------------------------------------------
     def _update_title(self) -> None:
