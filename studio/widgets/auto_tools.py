@@ -44,6 +44,7 @@ from studio.core.wrinkle_synth import (
     is_flat,
     synthesise_wrinkle_map,
 )
+from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.document import Document
 from studio.widgets.map_tools import WrinkleMapsCommand
 from studio.widgets.mask_edits import AreasCommand
@@ -122,11 +123,7 @@ class SynthDialog(QDialog):
         self.reveal.setChecked(True)
         form.addRow("", self.reveal)
         layout.addLayout(form)
-        self.buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok
-                                        | QDialogButtonBox.StandardButton.Cancel)
-        self.buttons.button(QDialogButtonBox.StandardButton.Ok).setText("Synthesise")
-        self.buttons.accepted.connect(self.accept)
-        self.buttons.rejected.connect(self.reject)
+        self.buttons = action_buttons(self, "Synthesise", self.accept)
         layout.addWidget(self.buttons)
         self._names = names
         self._full = full

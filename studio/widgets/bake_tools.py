@@ -14,7 +14,6 @@ from PySide6.QtGui import QAction
 from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
-    QDialogButtonBox,
     QDoubleSpinBox,
     QFormLayout,
     QLabel,
@@ -33,6 +32,7 @@ from studio.core.bake import (
 from studio.core.errors import StudioError
 from studio.core.mesh import FaceMesh
 from studio.core.meshio import load_mesh
+from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.document import Document
 from studio.widgets.map_tools import WRINKLED, SetMapCommand, get_map, map_label
 from studio.widgets.new_project_dialog import MESH_FILTER, FileField
@@ -83,11 +83,7 @@ class BakeDialog(QDialog):
         form.addRow("Into wrinkled map", self.target)
         form.addRow("Resolution", self.resolution)
         form.addRow("Max ray distance", self.distance)
-        box = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok
-                               | QDialogButtonBox.StandardButton.Cancel)
-        box.button(QDialogButtonBox.StandardButton.Ok).setText("Bake")
-        box.accepted.connect(self._accept)
-        box.rejected.connect(self.reject)
+        box = action_buttons(self, "Bake", self._accept)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
         layout.addWidget(note)

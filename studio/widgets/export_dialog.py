@@ -16,7 +16,6 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
-    QDialogButtonBox,
     QFileDialog,
     QFormLayout,
     QHBoxLayout,
@@ -31,6 +30,7 @@ from studio.commands.render import AnimationWriter, animation_weights, video_ava
 from studio.core.errors import StudioError
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
+from studio.widgets.dialog_buttons import action_buttons
 
 FORMATS = {"frames": "PNG frames (a folder)", "gif": "Animated GIF", "video": "MP4 video"}
 TECHNIQUES = {"t2": "Technique 2 (WDV)", "t1": "Technique 1 (influence areas)",
@@ -103,11 +103,7 @@ class ExportDialog(QDialog):
             spin.setPrefix(f"{label} ")
             frames.addWidget(spin)
         form.addRow("Frames", frames)
-        self.buttons = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok
-                                        | QDialogButtonBox.StandardButton.Cancel)
-        self.buttons.button(QDialogButtonBox.StandardButton.Ok).setText("Export")
-        self.buttons.accepted.connect(self._accept)
-        self.buttons.rejected.connect(self.reject)
+        self.buttons = action_buttons(self, "Export", self._accept)
         form.addRow(self.buttons)
         self._kind_changed()
 

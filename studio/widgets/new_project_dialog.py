@@ -15,7 +15,6 @@ from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
     QDialog,
-    QDialogButtonBox,
     QFileDialog,
     QFormLayout,
     QGroupBox,
@@ -37,6 +36,7 @@ from studio.core.errors import StudioError
 from studio.core.meshio import ObjGroup, obj_groups
 from studio.core.normalmap import flip_green
 from studio.core.project import Project
+from studio.widgets.dialog_buttons import action_buttons
 
 MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
 # Kinds of OBJ part, in the order preferred when two have as many names.
@@ -203,11 +203,7 @@ class NewProjectDialog(QDialog):
         buttons.addWidget(add)
         buttons.addWidget(remove)
         buttons.addStretch(1)
-        box = QDialogButtonBox(QDialogButtonBox.StandardButton.Ok
-                               | QDialogButtonBox.StandardButton.Cancel)
-        box.button(QDialogButtonBox.StandardButton.Ok).setText("Create")
-        box.accepted.connect(self.create)
-        box.rejected.connect(self.reject)
+        box = action_buttons(self, "Create", self.create)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
         layout.addWidget(self.parts, 1)
