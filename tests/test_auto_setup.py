@@ -68,10 +68,11 @@ def face() -> Project:
 
 # --- issue 8: auto setup -------------------------------------------------------------------------
 
-# Compression of the squeezed half (see INTERIOR_WEIGHT below): an interior vertex 0.049563, one
-# on the bottom or top border (2 edges along x, 1 along y, 1 diagonal) (0.2 + 0.048689) / 4 =
-# 0.062172, the largest: the 98th percentile. The auto mask maps c to (c / 0.062172 − 0.1) / 0.9.
-INTERIOR_MASK = (0.049563 / 0.062172 - 0.1) / 0.9  # 0.7746
+# The squeeze maps x → 0.9·x on the left half: every triangle there has principal stretches 0.9
+# (along x) and 1 (along y), so a principal compression of exactly 0.1, and the right half 0.
+# An interior vertex of the left half averages only such triangles: 0.1, which is also the 98th
+# percentile, so the auto mask maps it to (0.1 / 0.1 − 0.1) / 0.9 = 1.
+INTERIOR_MASK = 1.0
 
 
 def test_each_pose_gets_vectors_where_it_moves_and_a_mask_where_it_compresses(face):

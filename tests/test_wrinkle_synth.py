@@ -8,6 +8,7 @@ import pytest
 
 from studio.core import wrinkle_synth as synth
 from studio.core.errors import StudioError
+from studio.core.skin_strain import triangle_strain
 from studio.core.textures import flat_normal_map
 from tests.test_auto_setup import grid_mesh, grid_project, squeezed
 
@@ -26,7 +27,7 @@ def rotation(degrees: float) -> np.ndarray:
 
 def test_triangle_strain_by_hand():
     mesh = grid_mesh()
-    strain = synth.triangle_strain(mesh, squeezed(mesh.rest))
+    strain = triangle_strain(mesh, squeezed(mesh.rest))
     left = mesh.rest[mesh.welded_triangles].mean(axis=1)[:, 0] < 0.0
     # stretches 0.9 along x and 1 along y: compression 0.1 across x, anisotropy 0.1
     assert np.allclose(strain.compression[left], 0.1, atol=1e-5)
@@ -38,13 +39,13 @@ def test_triangle_strain_by_hand():
 def test_rigid_motion_compresses_nothing():
     mesh = grid_mesh()
     moved = mesh.rest @ rotation(30.0).T + np.float32([2.0, -1.0, 0.5])
-    assert np.abs(synth.triangle_strain(mesh, moved).compression).max() < 1e-5
+    assert np.abs(triangle_strain(mesh, moved).compression).max() < 1e-5
 
 
 def test_strain_is_measured_on_the_surface_not_in_uv_units():
     """UVs squashed 4× along u: the compression and its direction are those of the surface."""
     mesh = grid_mesh(uv_scale=(0.25, 1.0))
-    strain = synth.triangle_strain(mesh, squeezed(mesh.rest, 0.8))
+    strain = triangle_strain(mesh, squeezed(mesh.rest, 0.8))
     left = mesh.rest[mesh.welded_triangles].mean(axis=1)[:, 0] < 0.0
     assert np.allclose(strain.compression[left], 0.2, atol=1e-5)
     assert np.allclose(np.abs(strain.wave[left]), [1.0, 0.0], atol=1e-5)
@@ -57,7 +58,7 @@ def test_diagonal_compression_gives_a_diagonal_wave():
     d = np.float32([1.0, 1.0, 0.0]) / np.sqrt(2.0)
     along = mesh.rest @ d
     moved = mesh.rest - 0.3 * along[:, None] * d  # lengths along d shrink to 70 %
-    strain = synth.triangle_strain(mesh, moved)
+    strain = triangle_strain(mesh, moved)
     assert np.allclose(strain.compression, 0.3, atol=1e-5)
     wave = strain.wave * np.sign(strain.wave[:, :1])
     assert np.allclose(wave, np.float32([1.0, -1.0]) / np.sqrt(2.0), atol=1e-5)
@@ -171,9 +172,9 @@ def test_only_a_flat_placeholder_is_filled_in():
     project.textures.set_wrinkle_map("wrinkles", authored)
     project.textures.set_wrinkle_map("placeholder", flat_normal_map(4))
     small = synth.SynthOptions(size=64, spacing=6)
-    assert synth.fill_placeholder(project, small) == "placeholder"
+    assert synth.fill_placeholder(project, small) == {"placeholder": ["squeeze"]}
     assert project.textures.wrinkle_maps["wrinkles"] is authored
     filled = project.textures.wrinkle_maps["placeholder"]
     assert filled.shape == (64, 64, 3) and not synth.is_flat(filled)
-    assert synth.fill_placeholder(project, small) is None  # nothing flat is left
+    assert synth.fill_placeholder(project, small) == {}  # nothing flat is left
     assert synth.default_size(project.textures) == 1024

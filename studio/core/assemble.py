@@ -15,13 +15,15 @@ from pathlib import Path
 import numpy as np
 
 from studio.core.errors import MeshError
-from studio.core.images import load_rgb
 from studio.core.meshio import load_mesh, load_pose, not_face_vertices
 from studio.core.poses import NEUTRAL
 from studio.core.project import Project
+from studio.core.texture_sets import load_texture
 from studio.core.textures import FaceTextures, flat_normal_map
+from studio.core.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
 
 SKIN = (205, 160, 140)
+FLAT_NORMAL = (128, 128, 255)
 
 
 def plain_diffuse(size: int = 256) -> np.ndarray:
@@ -63,13 +65,35 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
         if pose_name == NEUTRAL or pose_name in (p.name for p in key_poses):
             raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
         key_poses.append(load_pose(pose_path, face, pose_name))
+    not_skin = flags if flags is not None and flags.any() else None
+    face, tiles = pack_mesh(face, None if not_skin is None else ~not_skin)
+    layout = tiles.layout if tiles is not None else None
     textures = FaceTextures(
-        diffuse=load_rgb(diffuse) if diffuse else plain_diffuse(),
-        normal_neutral=load_rgb(normal) if normal else flat_normal_map(),
-        normal_wrinkled=load_rgb(wrinkled) if wrinkled else flat_normal_map(),
+        diffuse=_texture(diffuse, layout, SKIN) if diffuse else plain_diffuse(),
+        normal_neutral=_texture(normal, layout, FLAT_NORMAL) if normal else flat_normal_map(),
+        normal_wrinkled=_texture(wrinkled, layout, FLAT_NORMAL) if wrinkled
+        else flat_normal_map(),
     )
-    return Project(name or Path(mesh).stem, face, key_poses, textures,
-                   not_face=flags if flags is not None and flags.any() else None)
+    return Project(name or Path(mesh).stem, face, key_poses, textures, not_face=not_skin,
+                   uv_tiles=tiles)
+
+
+def _embedded_to_atlas(textures: FaceTextures, layout: TileLayout) -> None:
+    """A glTF's own maps (one image each, for the first tile) placed in the atlas."""
+    def place(image: np.ndarray, fill: tuple[int, int, int]) -> np.ndarray:
+        size = atlas_size(layout, max(image.shape[:2]))
+        return compose_atlas({FIRST_TILE: image}, layout, np.array(fill, np.uint8), size)
+
+    textures.diffuse = place(textures.diffuse, SKIN)
+    textures.normal_neutral = place(textures.normal_neutral, FLAT_NORMAL)
+    for name, image in list(textures.wrinkle_maps.items()):
+        textures.set_wrinkle_map(name, place(image, FLAT_NORMAL))
+
+
+def _texture(path: str | Path, layout: TileLayout | None, fill: tuple[int, int, int]
+             ) -> np.ndarray:
+    """A texture file, or a UDIM set of them composed into the face's atlas."""
+    return load_texture(path, layout, np.array(fill, np.uint8))
 
 
 def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
@@ -79,6 +103,12 @@ def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
     from studio.core.gltf import load_gltf
 
     project = load_gltf(path)
+    if project.uv_tiles is None:  # a glTF from elsewhere with UDIM coordinates
+        project.mesh, project.uv_tiles = pack_mesh(project.mesh, None if project.not_face is None
+                                                   else ~project.not_face)
+        if project.uv_tiles is not None:  # its own images are tile 1001's
+            _embedded_to_atlas(project.textures, project.uv_tiles.layout)
+    layout = project.uv_tiles.layout if project.uv_tiles is not None else None
     for pose_name, pose_path in (poses or {}).items():
         if pose_name in project.pose_names:
             raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
@@ -87,7 +117,8 @@ def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
     for attr, file in (("diffuse", diffuse), ("normal_neutral", normal),
                        ("normal_wrinkled", wrinkled)):
         if file:
-            setattr(textures, attr, load_rgb(file))
+            setattr(textures, attr, _texture(file, layout, SKIN if attr == "diffuse"
+                                             else FLAT_NORMAL))
     project.textures = FaceTextures(textures.diffuse, textures.normal_neutral,  # re-checked
                                     wrinkle_maps=dict(textures.wrinkle_maps))
     if name:

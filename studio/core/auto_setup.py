@@ -15,7 +15,7 @@ not-face never get any. Nothing here changes the project except :func:`apply_set
 from __future__ import annotations
 
 import colorsys
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,6 +28,7 @@ from studio.core.naming import unique_name
 from studio.core.poses import NEUTRAL, PoseBlender
 from studio.core.project import Project
 from studio.core.selection import suggest
+from studio.core.skin_strain import PoseStrain, SkinStrain, compression_weights
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
 from studio.core.wdv import WdvArea, wrinkle_directions
 from studio.core.wrinkle_synth import UvRaster, fill_placeholder
@@ -40,7 +41,7 @@ SETUP_WORK_SIZE = 512  # … and for the soft masks of a whole auto setup, one p
 SUGGEST_FRACTION = 0.2  # the WDV panel's Suggest default: moved by > 20 % of the largest motion
 MASK_THRESHOLD = 0.1  # compression below 10 % of the pose's strong compression makes no mask
 MASK_SOFTNESS = 4.0  # blur of an auto mask, pixels of its size (as the areas panel's Auto mask)
-COMPRESSION_FLOOR = 1e-3  # shortening below 0.1 % is float noise (a pose that only translates)
+STILL_MOTION = 1e-4  # skin moved by less than this fraction of the face's size: not moved
 STRAIN_THRESHOLD = 0.25  # a strain → WDV area takes vertices with a wrinkle weight above this
 MAX_LINK_GAIN = 2.0  # the areas panel's largest link gain
 
@@ -54,6 +55,8 @@ class AutoSetupReport:
     links: dict[str, dict[str, float]] = field(default_factory=dict)  # pose -> {area: gain}
     still_poses: list[str] = field(default_factory=list)  # move no skin: no WDV area
     flat_poses: list[str] = field(default_factory=list)  # compress no skin: no mask
+    strains: dict[str, PoseStrain] = field(default_factory=dict)  # what each pose does
+    regions: dict[str, str] = field(default_factory=dict)  # where it compresses, by name
 
     @property
     def empty(self) -> bool:
@@ -71,6 +74,19 @@ class AutoSetupReport:
             parts.append(f"no mask for {', '.join(self.flat_poses)} (compresses no skin)")
         text = "; ".join(parts)
         return text[0].upper() + text[1:] + "."
+
+    def pose_lines(self) -> list[str]:
+        """A line per pose: how much skin it compresses, where and how strongly, or why it
+        got no mask — what a user checks first on a face made elsewhere."""
+        lines = []
+        for pose, strain in self.strains.items():
+            if strain.compresses:
+                where = f" around the {self.regions[pose]}" if pose in self.regions else ""
+                lines.append(f"{pose}: compresses {100 * strain.compressed_share:.1f} % of the "
+                             f"skin{where}, peak {100 * strain.peak_compression:.0f} %")
+            else:
+                lines.append(f"{pose}: no mask, it {strain.describe()}")
+        return lines
 
 
 def area_colour(index: int) -> tuple[int, int, int]:
@@ -118,21 +134,12 @@ def skin_target(project: Project, target: Array) -> Array:
     return np.where(project.not_face[:, None], project.mesh.rest, target).astype(np.float32)
 
 
-def compression_weights(project: Project, target: Array, threshold: float = MASK_THRESHOLD,
-                        strain: StrainField | None = None) -> Array:
-    """(W,) soft weights where ``target`` compresses the skin: the strain mode's compression
-    (mean edge shortening) normalised by its 98th percentile over compressed skin vertices,
-    below ``threshold`` of that 0 (as ``mask_ops.auto_mask``); 0 on not-face vertices and below
-    ``COMPRESSION_FLOOR``, so the rounding of a moved face is not blown up into a mask."""
-    mesh = project.mesh
-    strain = strain or StrainField(mesh)
-    comp = strain.compression(np.asarray(target, np.float32)) * project.skin_weights()
-    comp[comp < COMPRESSION_FLOOR] = 0.0
-    positive = comp[comp > 0.0]
-    if positive.size == 0:
-        return np.zeros(mesh.n_welded, np.float32)
-    scale = max(float(np.percentile(positive, 98)), 1e-12)
-    return np.clip((comp / scale - threshold) / (1.0 - threshold), 0.0, 1.0).astype(np.float32)
+def face_size(project: Project) -> float:
+    """The diagonal of the skin's bounding box: what motions are measured against, so no
+    threshold depends on the face's units."""
+    skin = project.skin_weights() > 0
+    points = project.mesh.rest[skin] if skin.any() else project.mesh.rest
+    return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
 
 
 def setup_mask_size(project: Project, mask_size: int | None) -> tuple[int, int]:
@@ -152,13 +159,15 @@ def setup_mask_size(project: Project, mask_size: int | None) -> tuple[int, int]:
 
 def suggest_setup(project: Project, *, mask_size: int | None = None,
                   poses: Iterable[str] | None = None, fraction: float = SUGGEST_FRACTION,
-                  threshold: float = MASK_THRESHOLD, softness: float = MASK_SOFTNESS
-                  ) -> AutoSetupReport:
+                  threshold: float = MASK_THRESHOLD, softness: float = MASK_SOFTNESS,
+                  locate: Callable[[Array], str] | None = None) -> AutoSetupReport:
     """The areas and links an automatic setup would add, without changing the project.
 
     For each key pose (all, or ``poses``): a WDV area named after it on the vertices it moves by
     more than ``fraction`` of its largest skin motion, and a soft mask from its compression
     linked to it with gain 1. Poses that move or compress no skin are reported instead.
+    Each pose's strain goes into the report; ``locate`` names the region of a neutral-face
+    point, for the report to say where a pose compresses the skin.
     """
     names = [p.name for p in project.poses] if poses is None else list(poses)
     shape = setup_mask_size(project, mask_size)
@@ -166,22 +175,32 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     report = AutoSetupReport()
     wdv_taken = [a.name for a in project.wdv.areas]
     mask_taken = [a.name for a in project.influence.areas]
-    strain = StrainField(project.mesh)
+    skin = project.skin_weights()
+    strain = SkinStrain(project.mesh, skin)
+    size = face_size(project)
     raster = UvRaster(project.mesh, min(max(shape), SETUP_WORK_SIZE))
     for name in names:
         if name == NEUTRAL:
             continue
         target = project.pose(name).positions
         moved = skin_target(project, target)
+        motion = float(np.linalg.norm(moved - rest, axis=1).max(initial=0.0)) / size
         colour = area_colour(len(report.wdv_areas) + len(report.flat_poses))
-        area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
-                                       suggest(rest, moved, fraction), colour=colour)
+        area = None
+        if motion > STILL_MOTION:
+            area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
+                                           suggest(rest, moved, fraction), colour=colour)
         if area is None:
             report.still_poses.append(name)
         else:
             wdv_taken.append(area.name)
             report.wdv_areas.append(area)
-        weights = compression_weights(project, target, threshold, strain)
+        pose_strain = strain.of(target)
+        summary = strain.summary(pose_strain, motion if motion > STILL_MOTION else 0.0)
+        report.strains[name] = summary
+        if locate is not None and summary.centre is not None:
+            report.regions[name] = locate(summary.centre)
+        weights = compression_weights(strain, pose_strain.compression, threshold)
         mask = mask_from_weights(project.mesh, weights, shape, softness, raster)
         if not mask.any():
             report.flat_poses.append(name)
@@ -227,16 +246,35 @@ def auto_setup(project: Project, *, mask_size: int | None = None, **options) -> 
     return report
 
 
-def auto_start(project: Project) -> list[str]:
+def auto_start(project: Project, locate: Callable[[Array], str] | None = None) -> list[str]:
     """``wrinkle-studio new --auto``: the automatic setup and, for a face that came without a
-    wrinkled normal map (a flat placeholder), one synthesised from its key poses, so that the
-    imported face shows wrinkles at once. Returns what was done, a line each."""
-    lines = [f"auto setup: {auto_setup(project).summary()}"]
-    name = fill_placeholder(project)
-    if name is not None:
-        lines.append(f"auto setup: synthesised the wrinkled normal map '{name}' from the key "
-                     "poses (the face came without one)")
+    wrinkled normal map (a flat placeholder), maps synthesised from its key poses — several
+    where poses' furrows cross, each pose's areas revealing its own — so that the imported face
+    shows wrinkles at once. Returns what was done, a line each."""
+    report = auto_setup(project, locate=locate)
+    lines = [f"auto setup: {report.summary()}",
+             *(f"  {line}" for line in report.pose_lines())]
+    made = fill_placeholder(project)
+    for map_name, poses in made.items():
+        reveal_map(project, report, poses, map_name)
+    if made:
+        maps = ", ".join(f"'{m}' ({', '.join(p) or 'no furrows'})" for m, p in made.items())
+        lines.append(f"auto setup: synthesised wrinkled normal maps from the key poses (the "
+                     f"face came without one): {maps}")
     return lines
+
+
+def reveal_map(project: Project, report: AutoSetupReport, poses: Iterable[str],
+               map_name: str) -> None:
+    """Point the areas a setup made for these poses at one wrinkled map."""
+    chosen = set(poses)
+    masks = {area for pose in chosen for area in report.links.get(pose, {})}
+    for area in report.influence_areas:
+        if area.name in masks:
+            area.wrinkle_map = map_name
+    for wdv_area in report.wdv_areas:
+        if wdv_area.pose in chosen:
+            wdv_area.wrinkle_map = map_name
 
 
 # --- issue 10: the automatic (strain) mode's result, made editable -------------------------------

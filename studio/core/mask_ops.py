@@ -11,6 +11,7 @@ import numpy as np
 from PIL import Image
 
 from studio.core.mesh import FaceMesh
+from studio.core.skin_strain import SkinStrain, compression_weights
 
 Array = np.ndarray
 RESOLUTIONS = (512, 1024, 2048, 4096)
@@ -185,18 +186,16 @@ def auto_mask(mesh: FaceMesh, posed_welded: Array, size: int, threshold: float =
               softness: float = 4.0, work_size: int = 1024) -> Array:
     """A soft UV mask where the pose compresses the skin (SPEC §4 areas, beyond the thesis).
 
-    Compression is normalised by its 98th percentile over compressed vertices; values below
+    Compression is the smallest principal stretch's shortfall (``skin_strain``: a sideways
+    squeeze counts even where the area stays the same), normalised by its 98th percentile over
+    compressed vertices; values below
     ``threshold`` of that drop to 0; the result is rasterised at ``work_size`` at most (the mask
     is smooth, so that loses nothing), blurred by ``softness`` pixels of the target size and
     resampled to ``size``.
     """
-    comp = vertex_compression(mesh.rest, np.asarray(posed_welded, np.float32),
-                              mesh.welded_triangles)
-    positive = comp[comp > 1e-6]
-    if positive.size == 0:
-        return np.zeros((size, size), np.float32)
-    scale = float(np.percentile(positive, 98))
-    strength = np.clip((comp / max(scale, 1e-12) - threshold) / (1.0 - threshold), 0.0, 1.0)
+    strain = SkinStrain(mesh)
+    compression = strain.of(np.asarray(posed_welded, np.float32)).compression
+    strength = compression_weights(strain, compression, threshold)
     work = min(size, work_size)
     img, _ = rasterise_uv(mesh.uvs, mesh.triangles, strength[mesh.weld], work)
     img = blur(img, softness * work / size)

@@ -12,6 +12,7 @@ from studio.core.mesh import FaceMesh
 from studio.core.poses import NEUTRAL, KeyPose, check_pose_topology
 from studio.core.textures import FaceTextures
 from studio.core.timeline import Timeline
+from studio.core.uv_tiles import UvTiles
 from studio.core.wdv import WdvSetup
 
 
@@ -28,6 +29,8 @@ class Project:
     extra: dict = field(default_factory=dict)  # unknown project.json keys, kept for newer tools
     # (W,) bool per welded vertex: not skin (eyes, teeth, ...), so never wrinkled; None = all skin
     not_face: np.ndarray | None = None
+    # UDIM tiles packed into the 0–1 atlas the mesh's UVs are in; None = one tile as imported
+    uv_tiles: UvTiles | None = None
 
     def __post_init__(self) -> None:
         for pose in self.poses:
@@ -37,6 +40,9 @@ class Project:
             if self.not_face.shape != (self.mesh.n_welded,):
                 raise StudioError(f"the not-face flags cover {self.not_face.shape} vertices, "
                                   f"the mesh has {self.mesh.n_welded}")
+        if self.uv_tiles is not None and len(self.uv_tiles.vertex_tile) != self.mesh.n_vertices:
+            raise StudioError(f"the UV tiles cover {len(self.uv_tiles.vertex_tile)} vertices, "
+                              f"the mesh has {self.mesh.n_vertices}")
 
     def skin_weights(self) -> np.ndarray:
         """(W,) float32: 1 where wrinkles may show, 0 on vertices marked not-face."""

@@ -13,6 +13,7 @@ Layout (every name relative to the archive root)::
     textures/normal_wrinkled.png RGB PNG, 8 or 16 bits: the first wrinkled map
     textures/wrinkled_NN.png     RGB PNG: wrinkled map NN (1, 2, 3) when there are several
     mesh/not_face.npy            (W,)   bool     vertices never wrinkled (eyes, teeth); optional
+    mesh/vertex_tile.npy         (V,)   int16    UDIM tile (index into uv_tiles.tiles); optional
     masks/NN_<area>.png          16-bit greyscale PNG, value / 65535 = influence (all one size)
                                  (an 8-bit greyscale PNG from an editor reads as value / 255)
     wdv/NN_directions.npy        (W, 3) float32  WDV area NN's directions
@@ -26,6 +27,8 @@ Layout (every name relative to the archive root)::
      "poses": ["smile", ...],
      "wrinkle_maps": ["wrinkles", "smile lines"],   (names of the wrinkled maps, in order)
      "not_face": "mesh/not_face.npy",               (optional)
+     "uv_tiles": {"tiles": [1001, 1002], "cells": [[x, y, side], ...],
+                  "vertex_tile": "mesh/vertex_tile.npy"},  (optional: UDIM tiles in the atlas)
      "influence": {"areas": [{"name", "colour": [r, g, b], "activation", "visible",
                               "wrinkle_map", "mask": "masks/00_forehead.png"}, ...],
                    "links": {"pose": {"area": gain}}},
@@ -89,6 +92,7 @@ from studio.core.poses import NEUTRAL, KeyPose
 from studio.core.project import Project
 from studio.core.textures import DEFAULT_WRINKLE_MAP, MAX_WRINKLE_MAPS, FaceTextures
 from studio.core.timeline import INTERPOLATIONS, Timeline
+from studio.core.uv_tiles import TileLayout, UvTiles
 from studio.core.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
@@ -112,9 +116,10 @@ MAX_MEMBERS = 100_000
 MAX_PIXEL_BYTES = 2 << 30  # one image's decoded pixels
 
 KNOWN_KEYS = frozenset({"format", "version", "name", "mesh", "poses", "influence", "wdv", "view",
-                        "timeline", "wrinkle_maps", "not_face"})
+                        "timeline", "wrinkle_maps", "not_face", "uv_tiles"})
 TEXTURES = ("diffuse", "normal_neutral", "normal_wrinkled")
 NOT_FACE_MEMBER = "mesh/not_face.npy"
+VERTEX_TILE_MEMBER = "mesh/vertex_tile.npy"
 MESH_ARRAYS = {  # member -> dtype, shape in terms of the counts in project.json "mesh"
     "rest": (np.float32, ("welded_vertices", 3)),
     "triangles": (np.int32, ("triangles", 3)),
@@ -316,6 +321,8 @@ def _members(project: Project,
         yield _pose_member(i), _npy, pose.positions
     if project.not_face is not None:
         yield NOT_FACE_MEMBER, _npy, project.not_face
+    if project.uv_tiles is not None:
+        yield VERTEX_TILE_MEMBER, _npy, project.uv_tiles.vertex_tile
     for key in TEXTURES:
         yield f"textures/{key}.png", encode_png, getattr(project.textures, key)
     for i, image in enumerate(list(project.textures.wrinkle_maps.values())[1:], start=1):
@@ -346,6 +353,8 @@ def _document(project: Project, path: Path) -> bytes:
         "poses": [pose.name for pose in project.poses],
         "wrinkle_maps": project.textures.wrinkle_map_names,
         **({"not_face": NOT_FACE_MEMBER} if project.not_face is not None else {}),
+        **({"uv_tiles": {**project.uv_tiles.layout.to_dict(), "vertex_tile": VERTEX_TILE_MEMBER}}
+           if project.uv_tiles is not None else {}),
         "influence": {
             "areas": [{"name": a.name, "colour": [int(c) for c in a.colour],
                        "activation": float(a.activation), "visible": bool(a.visible),
@@ -470,7 +479,7 @@ def check_project(project: Project, path: str | Path | None = None) -> None:
         mesh = FaceMesh(m.rest, m.triangles, m.uvs, m.weld)
         Project(project.name, mesh, project.poses,
                 FaceTextures(t.diffuse, t.normal_neutral, wrinkle_maps=dict(t.wrinkle_maps)),
-                not_face=project.not_face)
+                not_face=project.not_face, uv_tiles=project.uv_tiles)
     except StudioError as exc:
         fail(exc.problem)
     map_names = set(project.textures.wrinkle_map_names) | {""}
@@ -824,16 +833,28 @@ class _Loader:
         if "not_face" in doc:
             not_face = self.array(self.field(doc, "not_face", "text", ""), np.bool_, (n,),
                                   "the not-face vertex flags")
+        uv_tiles = self.uv_tiles(doc, mesh.n_vertices) if "uv_tiles" in doc else None
         influence = self.influence(self.field(doc, "influence", "object", ""))
         wdv = self.wdv(self.field(doc, "wdv", "object", ""), n)
         view = self.field(doc, "view", "object", "") if "view" in doc else {}
         timeline = self.timeline(doc["timeline"]) if "timeline" in doc else Timeline()
         project = Project(name, mesh, poses, textures, influence=influence, wdv=wdv,
-                          timeline=timeline, view=view, not_face=not_face)
+                          timeline=timeline, view=view, not_face=not_face,
+                          uv_tiles=uv_tiles)
         unknown = {k: v for k, v in doc.items() if k not in KNOWN_KEYS}
         project.extra.update(unknown)
         check_project(project, self.path)  # names, links, WDV and timeline poses together
         return project
+
+    def uv_tiles(self, doc: dict[str, Any], n_vertices: int) -> UvTiles:
+        tiles_doc = self.field(doc, "uv_tiles", "object", "")
+        try:
+            layout = TileLayout.from_dict(tiles_doc)
+            vertex_tile = self.array(self.field(tiles_doc, "vertex_tile", "text", "uv_tiles."),
+                                     np.int16, (n_vertices,), "the vertices' UV tiles")
+            return UvTiles(layout, vertex_tile)
+        except StudioError as exc:
+            self.fail(f"project.json: {exc.problem}")
 
     def textures(self, doc: dict[str, Any]) -> FaceTextures:
         diffuse, neutral, first = (self.image(f"textures/{key}.png", f"the {key} texture", False)

@@ -37,10 +37,17 @@ from studio.core import mask_ops
 from studio.core.errors import StudioError
 from studio.core.images import to_unit_float
 from studio.core.mesh import FaceMesh
+from studio.core.naming import unique_name
 from studio.core.normalmap import height_to_normal
 from studio.core.project import Project
+from studio.core.skin_strain import (
+    WRINKLING_COMPRESSION,
+    TriangleStrain,
+    UvStrain,
+    triangle_areas,
+)
 from studio.core.strain import DEFAULT_FULL_AT
-from studio.core.textures import FaceTextures, resize_nearest
+from studio.core.textures import MAX_WRINKLE_MAPS, FaceTextures, resize_nearest
 
 Array = np.ndarray
 Progress = Callable[[int, int], bool]  # (done, total) -> keep going
@@ -49,6 +56,11 @@ BINS = 32  # orientations in the filter bank over 180°: 5.6° apart, well insid
 WORK_SIZE = 256  # strain fields are smooth: rasterised at most this size, then upsampled
 SHARPNESS = 4.0  # exponent of the valley profile: higher = narrower furrows between flat skin
 SEED = 2010
+PEAK_SHARE = 0.7  # a pose's furrows are at full depth from 70 % of its strong compression on
+FURROW_SPACING = 0.02  # between neighbouring furrows, as a share of the face's size …
+DEPTH_PER_SPACING = 0.125  # … and their depth, as a share of the spacing (1.5 texels in 12)
+CROSSING_ANGLE = 30.0  # degrees: furrows of two poses this far apart do not share a map
+CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's furrows
 
 
 @dataclass
@@ -111,76 +123,7 @@ class UvRaster:
         return out.reshape(self.size, self.size)
 
 
-# --- 1. strain per triangle ----------------------------------------------------------------------
-
-@dataclass
-class TriangleStrain:
-    compression: Array  # (F,) 1 − smallest stretch, ≥ 0
-    wave: Array  # (F, 2) unit vector in image coordinates (x = u, y = 1 − v), across the furrows
-    anisotropy: Array  # (F,) largest minus smallest stretch
-
-
-Metric = tuple[Array, Array, Array]  # (g00, g01, g11) per triangle: a symmetric 2×2 tensor
-
-
-class UvStrain:
-    """Strain in the UV parametrisation, with what depends only on the neutral face (the UV
-    edge inverses and the rest metric) prepared once for any number of poses."""
-
-    def __init__(self, mesh: FaceMesh) -> None:
-        tri = mesh.triangles
-        img = np.c_[mesh.uvs[:, 0], 1.0 - mesh.uvs[:, 1]].astype(np.float64)
-        d1, d2 = img[tri[:, 1]] - img[tri[:, 0]], img[tri[:, 2]] - img[tri[:, 0]]
-        det_u = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
-        ok = np.abs(det_u) > 1e-14
-        inv = np.where(ok, 1.0 / np.where(ok, det_u, 1.0), 0.0)
-        # U = [d1 d2] (columns); U⁻¹ = [[d2y, −d2x], [−d1y, d1x]] / det
-        self._u_inv = (d2[:, 1] * inv, -d2[:, 0] * inv, -d1[:, 1] * inv, d1[:, 0] * inv)
-        self._welded = mesh.welded_triangles
-        self.rest = self.metric(mesh.rest)
-        b00, b01, b11 = self.rest
-        self._det_b = b00 * b11 - b01 * b01
-        self._ok = ok & (self._det_b > 1e-12 * np.maximum(b00 + b11, 1e-300) ** 2)
-        self._det_b = np.where(self._ok, self._det_b, 1.0)
-
-    def metric(self, points: Array) -> Metric:
-        """JᵀJ of the map from image offsets to 3-D offsets, J = E · U⁻¹ (E: edge vectors)."""
-        p = np.asarray(points, np.float64)[self._welded]
-        e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-        i00, i01, i10, i11 = self._u_inv
-        j0 = e1 * i00[:, None] + e2 * i10[:, None]
-        j1 = e1 * i01[:, None] + e2 * i11[:, None]
-        return ((j0 * j0).sum(1), (j0 * j1).sum(1), (j1 * j1).sum(1))
-
-    def of(self, target: Array) -> TriangleStrain:
-        """Per-triangle compression and its direction for one pose: the generalised
-        eigenproblem ``A v = λ B v`` of the pose metric A against the rest metric B."""
-        a00, a01, a11 = self.metric(target)
-        b00, b01, b11 = self.rest
-        det_b, ok = self._det_b, self._ok
-        det_a = a00 * a11 - a01 * a01
-        trace = a00 * b11 + a11 * b00 - 2.0 * a01 * b01
-        root = np.sqrt(np.maximum(trace * trace - 4.0 * det_b * det_a, 0.0))
-        lam_min = np.maximum((trace - root) / (2.0 * det_b), 0.0)
-        lam_max = np.maximum((trace + root) / (2.0 * det_b), 0.0)
-        # M = A − λ_min B is singular; v spans its null space (from its larger row)
-        m00, m01, m11 = a00 - lam_min * b00, a01 - lam_min * b01, a11 - lam_min * b11
-        first = m00 * m00 + m01 * m01 >= m01 * m01 + m11 * m11
-        vx, vy = np.where(first, -m01, -m11), np.where(first, m00, m01)
-        wave = np.stack([b00 * vx + b01 * vy, b01 * vx + b11 * vy], axis=1)  # B v
-        norm = np.linalg.norm(wave, axis=1)
-        wave /= np.where(norm > 0, norm, 1.0)[:, None]
-        s_min, s_max = np.sqrt(lam_min), np.sqrt(lam_max)
-        compression = np.where(ok, np.clip(1.0 - s_min, 0.0, 1.0), 0.0)
-        anisotropy = np.where(ok, s_max - s_min, 0.0)
-        return TriangleStrain(compression.astype(np.float32), wave.astype(np.float32),
-                              anisotropy.astype(np.float32))
-
-
-def triangle_strain(mesh: FaceMesh, target: Array) -> TriangleStrain:
-    """Per-triangle compression and its direction, measured in the UV parametrisation."""
-    return UvStrain(mesh).of(target)
-
+# --- 1. strain per triangle: studio.core.skin_strain ---------------------------------------------
 
 # --- 2. fields on the UV layout ------------------------------------------------------------------
 
@@ -222,6 +165,18 @@ class FurrowField:
         return {int(k) for k in used} | {int(k + 1) % BINS for k in used}
 
 
+def pose_full_at(compression: Array, full_at: float) -> float:
+    """The compression at which a pose's furrows reach full depth: ``full_at``, or less for a
+    pose whose strong compression (the 98th percentile over compressed skin) stays below it —
+    so every pose that wrinkles at all shows clear furrows at full weight, the way an artist's
+    wrinkle map would, instead of faint ones for a face whose poses are subtle."""
+    compressed = compression[compression >= WRINKLING_COMPRESSION]
+    if compressed.size == 0:
+        return full_at
+    return float(min(full_at, max(PEAK_SHARE * np.percentile(compressed, 98),
+                                  WRINKLING_COMPRESSION)))
+
+
 def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
                  full_at: float, smoothing: float) -> FurrowField:
     """Rasterise, smooth and upsample one pose's compression and direction fields."""
@@ -233,6 +188,7 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     cos2 = strain.wave[:, 0] ** 2 - strain.wave[:, 1] ** 2
     sin2 = 2.0 * strain.wave[:, 0] * strain.wave[:, 1]
     radius = smoothing * work / size
+    full_at = pose_full_at(compression, full_at)
 
     def layer(per_triangle: Array) -> Array:
         return np.where(covered, per_triangle[tri], 0.0).astype(np.float32)
@@ -332,29 +288,103 @@ def over_base(detail: Array, base: Array) -> Array:
     return out
 
 
-def synthesise_height(mesh: FaceMesh, targets: Sequence[Array], options: SynthOptions,
-                      skin: Array | None = None, progress: Progress | None = None
-                      ) -> Array | None:
-    """(size, size) float32 furrow height in texels (≤ 0) for these pose shapes; None if
-    ``progress`` returned False."""
+def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOptions,
+                  skin: Array | None = None, progress: Progress | None = None,
+                  total: int = 0) -> list[FurrowField] | None:
+    """Each pose's furrow field at the map's size; None if ``progress`` stopped."""
     options.check()
     size = options.size
-    work = min(size, WORK_SIZE)
+    work = min(size, work_size(mesh))
     ids = UvRaster(mesh, work).triangle
     uv_strain = UvStrain(mesh)
     skin_tri = (np.ones(mesh.n_triangles, np.float32) if skin is None
                 else np.asarray(skin, np.float32)[mesh.welded_triangles].min(axis=1))
     smoothing = 1.5 * options.spacing if options.smoothing is None else options.smoothing
-    total = len(targets) + BINS
     fields = []
     for i, target in enumerate(targets):
         fields.append(furrow_field(uv_strain.of(target), ids, skin_tri, size, options.full_at,
                                    smoothing))
-        if progress is not None and not progress(i + 1, total):
+        if progress is not None and not progress(i + 1, total or len(targets)):
             return None
-    depth = furrow_depths(fields, size, options.spacing, options.seed, progress, len(targets),
-                          total)
+    return fields
+
+
+def work_size(mesh: FaceMesh) -> int:
+    """Strain fields are smooth: rasterised at ``WORK_SIZE`` across the UV square's used
+    part — more when the layout is an atlas of tiles whose cells are smaller."""
+    uv = mesh.uvs
+    extent = float(max(np.ptp(uv[:, 0]), np.ptp(uv[:, 1]), 1e-6))
+    return int(min(4 * WORK_SIZE, WORK_SIZE / min(extent, 1.0)))
+
+
+def synthesise_height(mesh: FaceMesh, targets: Sequence[Array], options: SynthOptions,
+                      skin: Array | None = None, progress: Progress | None = None
+                      ) -> Array | None:
+    """(size, size) float32 furrow height in texels (≤ 0) for these pose shapes; None if
+    ``progress`` returned False."""
+    total = len(targets) + BINS
+    fields = furrow_fields(mesh, targets, options, skin, progress, total)
+    if fields is None:
+        return None
+    depth = furrow_depths(fields, options.size, options.spacing, options.seed, progress,
+                          len(targets), total)
     return None if depth is None else (-options.depth * depth).astype(np.float32)
+
+
+def crossing(a: FurrowField, b: FurrowField, strong: float = 0.25) -> bool:
+    """Whether two poses' furrows cross: where both are strong, their orientations differ by
+    more than ``CROSSING_ANGLE`` on more than ``CROSSING_SHARE`` of the smaller one's texels.
+    One map cannot hold both: either pose would reveal the other's furrows too."""
+    sa, sb = a.amount > strong, b.amount > strong
+    common, ia, ib = np.intersect1d(a.index[sa], b.index[sb], assume_unique=True,
+                                    return_indices=True)
+    if common.size == 0:
+        return False
+    angle_a = (a.lower[sa][ia] + a.frac[sa][ia]) * (180.0 / BINS)
+    angle_b = (b.lower[sb][ib] + b.frac[sb][ib]) * (180.0 / BINS)
+    diff = np.abs(angle_a - angle_b) % 180.0
+    diff = np.minimum(diff, 180.0 - diff)
+    smaller = max(min(int(sa.sum()), int(sb.sum())), 1)
+    return (diff > CROSSING_ANGLE).sum() > CROSSING_SHARE * smaller
+
+
+def crossing_groups(fields: Sequence[FurrowField], most: int) -> list[list[int]]:
+    """Poses (by index) grouped so that no two in a group have crossing furrows, in at most
+    ``most`` groups (greedy colouring in pose order; past ``most``, a pose joins the group it
+    crosses least). Poses without furrows join the first group."""
+    groups: list[list[int]] = []
+    for i, f in enumerate(fields):
+        if f.index.size == 0:
+            continue
+        clashes = [sum(crossing(f, fields[j]) for j in group) for group in groups]
+        free = [k for k, c in enumerate(clashes) if c == 0]
+        if free:
+            groups[free[0]].append(i)
+        elif len(groups) < most:
+            groups.append([i])
+        else:
+            groups[int(np.argmin(clashes))].append(i)
+    return groups or [[]]
+
+
+def face_options(project: Project, size: int) -> SynthOptions:
+    """Furrow spacing and depth for this face: a share of its size (``FURROW_SPACING``) turned
+    into texels by the skin's UV density, so a face in millimetres or metres, with UVs spread
+    over one tile or packed into an atlas cell, gets the same furrows on its skin."""
+    mesh = project.mesh
+    skin = project.skin_weights()[mesh.welded_triangles].min(axis=1) > 0
+    area_3d = triangle_areas(mesh.rest, mesh.welded_triangles)
+    uv = mesh.uvs[mesh.triangles].astype(np.float64)
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    area_uv = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+    ok = skin & (area_3d > 0) & (area_uv > 0)
+    if not ok.any():
+        return SynthOptions(size=size)
+    texels_per_unit = size * np.sqrt(area_uv[ok].sum() / area_3d[ok].sum())
+    points = mesh.rest[project.skin_weights() > 0]
+    face = float(np.linalg.norm(np.ptp(points, axis=0)))
+    spacing = float(np.clip(FURROW_SPACING * face * texels_per_unit, 3.0, size / 8))
+    return SynthOptions(size=size, spacing=spacing, depth=DEPTH_PER_SPACING * spacing)
 
 
 def synthesise_wrinkle_map(project: Project, poses: Sequence[str] | None = None,
@@ -370,12 +400,16 @@ def synthesise_wrinkle_map(project: Project, poses: Sequence[str] | None = None,
     height = synthesise_height(project.mesh, targets, options, project.skin_weights(), progress)
     if height is None:
         return None
-    neutral = project.textures.normal_neutral
+    return SynthResult(height, height_to_map(height, project.textures.normal_neutral,
+                                             over_neutral))
+
+
+def height_to_map(height: Array, neutral: Array, over_neutral: bool = True) -> Array:
+    """Furrow heights as a tangent-space normal map at the neutral map's bit depth, laid over
+    its detail unless ``over_neutral`` is False."""
     bits = 16 if neutral.dtype == np.uint16 else 8
     normal = height_to_normal(height, 0.5, bits=bits)  # central differences span 2 texels
-    if over_neutral:
-        normal = over_base(normal, neutral)
-    return SynthResult(height, normal)
+    return over_base(normal, neutral) if over_neutral else normal
 
 
 # --- for a face that has no wrinkled map ---------------------------------------------------------
@@ -391,17 +425,43 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
     return max(least, *(max(image.shape[:2]) for image in images))
 
 
-def fill_placeholder(project: Project, options: SynthOptions | None = None) -> str | None:
+def fill_placeholder(project: Project, options: SynthOptions | None = None
+                     ) -> dict[str, list[str]]:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
-    imported face without one shows wrinkles; its name, or None if every map is authored or the
-    face has no key poses."""
+    imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
+    lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
+    shader's four). Returns {map name: its poses}; empty if every map is authored or the face
+    has no key poses."""
     textures = project.textures
     name = next((n for n, image in textures.wrinkle_maps.items() if is_flat(image)), None)
     if name is None or not project.poses:
-        return None
-    options = options or SynthOptions(size=min(_power_of_two(default_size(textures)), 2048))
-    textures.set_wrinkle_map(name, synthesise_wrinkle_map(project, None, options).normal)
-    return name
+        return {}
+    if options is None:
+        options = face_options(project, _default_map_size(project))
+    names = [p.name for p in project.poses]
+    targets = [p.positions for p in project.poses]
+    fields = furrow_fields(project.mesh, targets, options, project.skin_weights())
+    room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
+    groups = crossing_groups(fields, room)
+    neutral = textures.normal_neutral
+    made: dict[str, list[str]] = {}
+    for k, group in enumerate(groups):
+        depth = furrow_depths([fields[i] for i in group], options.size, options.spacing,
+                              options.seed)
+        normal = height_to_map((-options.depth * depth).astype(np.float32), neutral)
+        map_name = name if k == 0 else unique_name(f"{name} {k + 1}", textures.wrinkle_maps)
+        textures.set_wrinkle_map(map_name, normal)
+        made[map_name] = [names[i] for i in group]
+    return made
+
+
+def _default_map_size(project: Project) -> int:
+    """A power of two that does the face's other maps justice, and keeps about 1024 texels
+    across a skin tile of an atlas; at most 4096."""
+    size = default_size(project.textures)
+    if project.uv_tiles is not None:
+        size = max(size, round(1024 / project.uv_tiles.layout.largest_cell()))
+    return min(_power_of_two(size), 4096)
 
 
 def _power_of_two(size: int) -> int:
