@@ -57,6 +57,13 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
         path = folder / "masks" / f"{i:02d}_{safe_name(area.name)}.png"
         write_png(path, np.round(np.clip(area.mask, 0, 1) * scale).astype(dtype))
         written.append(path)
+    tiles = project.skin_tiles()
+    for i, area in enumerate(areas):  # a UDIM face: each skin tile's part, as tools expect
+        for tile in tiles:
+            path = folder / "masks" / f"{i:02d}_{safe_name(area.name)}.{tile}.png"
+            crop = project.uv_tiles.layout.crop(area.mask, tile)
+            write_png(path, np.round(np.clip(crop, 0, 1) * scale).astype(dtype))
+            written.append(path)
     for k, rgba in enumerate(packed_masks(project)):
         path = folder / "masks" / f"packed_{k:02d}.png"
         write_png(path, rgba)
@@ -72,6 +79,11 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
     path = folder / "maps" / "neutral.png"
     write_png(path, textures.normal_neutral)
     written.append(path)
+    for tile in tiles:
+        for i, (name, image) in enumerate(textures.wrinkle_maps.items()):
+            path = folder / "maps" / f"wrinkled_{i}_{safe_name(name)}.{tile}.png"
+            write_png(path, project.uv_tiles.layout.crop(image, tile))
+            written.append(path)
     links = {
         "wrinkle_maps": maps,
         "areas": [{"name": a.name, "mask": f"masks/{i:02d}_{safe_name(a.name)}.png",
@@ -80,6 +92,10 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
                    "wrinkle_map": textures.map_index(a.wrinkle_map)}
                   for i, a in enumerate(areas)],
         "pose_links": project.influence.links,
+        **({"uv_tiles": {**project.uv_tiles.layout.to_dict(), "skin_tiles": tiles,
+                         "note": "masks and maps are atlases (the glTF's UVs); files named "
+                                 "NAME.<UDIM>.png hold each skin tile in its own 0-1 square"}}
+           if project.uv_tiles is not None else {}),
         "packed_layout": layout,
         "wdv": {"expression_factor": project.wdv.expression_factor,
                 "scale_free": project.wdv.scale_free,

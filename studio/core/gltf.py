@@ -31,6 +31,7 @@ from studio.core.poses import KeyPose
 from studio.core.project import Project
 from studio.core.textures import FaceTextures, flat_normal_map
 from studio.core.timeline import Timeline
+from studio.core.uv_tiles import TileLayout, UvTiles
 from studio.core.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
@@ -276,6 +277,9 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
         project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
     if "_NOT_FACE" in attrs:
         project.not_face = g.accessor(attrs["_NOT_FACE"])[first].ravel() > 0.5
+    if "uv_tiles" in extras and "_UDIM_TILE" in attrs:
+        tiles = np.rint(g.accessor(attrs["_UDIM_TILE"]).ravel()).astype(np.int16)
+        project.uv_tiles = UvTiles(TileLayout.from_dict(extras["uv_tiles"]), tiles)
     wdv = extras.get("wdv", {})
     wdv_areas = []
     for n, spec in enumerate(wdv.get("areas", [])):
@@ -343,6 +347,8 @@ def save_gltf(project: Project, path: str | Path) -> None:
             attributes[f"_WRINKLE_CONE_{n}"] = b.accessor(area.cone_angles_deg[weld], "SCALAR")
     if project.not_face is not None:
         attributes["_NOT_FACE"] = b.accessor(project.not_face[weld], "SCALAR")
+    if project.uv_tiles is not None:  # the atlas cell's UDIM tile: the original UVs come back
+        attributes["_UDIM_TILE"] = b.accessor(project.uv_tiles.vertex_tile, "SCALAR")
     targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True)}
                for pose in project.poses]
     images: list[dict] = []
@@ -384,6 +390,7 @@ def save_gltf(project: Project, path: str | Path) -> None:
         "extras": {EXTRAS_KEY: {
             "name": project.name, "influence": influence, "timeline": project.timeline.to_dict(),
             "wrinkle_maps": wrinkle_maps,
+            **({"uv_tiles": project.uv_tiles.layout.to_dict()} if project.uv_tiles else {}),
             "wdv": {"expression_factor": project.wdv.expression_factor,
                     "scale_free": project.wdv.scale_free,
                     "areas": [{"name": a.name, "pose": a.pose, "colour": list(a.colour),

@@ -50,6 +50,13 @@ class Project:
             return np.ones(self.mesh.n_welded, np.float32)
         return (~self.not_face).astype(np.float32)
 
+    def skin_tiles(self) -> list[int]:
+        """The UDIM tiles that hold skin, in order; none for a face on a single tile."""
+        if self.uv_tiles is None:
+            return []
+        skin = self.skin_weights()[self.mesh.weld] > 0
+        return [self.uv_tiles.layout.tiles[i] for i in np.unique(self.uv_tiles.vertex_tile[skin])]
+
     @property
     def pose_names(self) -> list[str]:
         return [NEUTRAL, *(p.name for p in self.poses)]

@@ -194,7 +194,8 @@ class AutoTools:
             self._push_areas("Auto Setup from Poses", report.influence_areas, report.links,
                              report.wdv_areas)
         if report.empty or report.still_poses or report.flat_poses:
-            QMessageBox.information(self.window, "Auto Setup", report.summary())
+            QMessageBox.information(self.window, "Auto Setup",
+                                    "\n".join([report.summary(), *report.pose_lines()]))
         else:
             self._say(report.summary())
         return report

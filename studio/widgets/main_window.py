@@ -290,6 +290,8 @@ class MainWindow(QMainWindow):
         dialog = NewProjectDialog(self)
         if dialog.exec() and dialog.project is not None:
             self.doc.replace_project(dialog.project, None)
+            if dialog.report:
+                QMessageBox.information(self, "Auto set-up", "\n".join(dialog.report))
 
     def save(self) -> bool:
         if self.doc.path is None:

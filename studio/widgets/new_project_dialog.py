@@ -9,8 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QSettings, Qt
 from PySide6.QtWidgets import (
+    QApplication,
     QButtonGroup,
     QCheckBox,
     QComboBox,
@@ -32,6 +33,7 @@ from PySide6.QtWidgets import (
 )
 
 from studio.core.assemble import project_from_files, suggest_not_face
+from studio.core.auto_setup import auto_start
 from studio.core.errors import StudioError
 from studio.core.meshio import ObjGroup, obj_groups
 from studio.core.normalmap import flip_green
@@ -186,6 +188,11 @@ class NewProjectDialog(QDialog):
         self.normal = FileField("Neutral normal map", IMAGE_FILTER, "optional: flat")
         self.wrinkled = FileField("Wrinkled normal map", IMAGE_FILTER, "optional: flat")
         self.directx = QCheckBox("Normal maps use the DirectX convention (flip green)")
+        self.auto = QCheckBox("Auto set-up from the key poses (wrinkle vectors, masks, and a "
+                              "wrinkled map when none is given)")
+        self.auto.setChecked(QSettings().value("new_project/auto", True, type=bool))
+        self.auto.toggled.connect(lambda on: QSettings().setValue("new_project/auto", on))
+        self.report: list[str] = []  # what the auto set-up did, a line each
         self.poses = QTableWidget(0, 2)
         self.poses.setHorizontalHeaderLabels(["Key pose", "Mesh file"])
         self.poses.horizontalHeader().setStretchLastSection(True)
@@ -199,6 +206,7 @@ class NewProjectDialog(QDialog):
         form.addRow("Neutral normals", self.normal)
         form.addRow("Wrinkled normals", self.wrinkled)
         form.addRow(self.directx)
+        form.addRow(self.auto)
         buttons = QHBoxLayout()
         buttons.addWidget(add)
         buttons.addWidget(remove)
@@ -254,5 +262,14 @@ class NewProjectDialog(QDialog):
             textures = project.textures
             textures.normal_neutral = flip_green(textures.normal_neutral)
             textures.normal_wrinkled = flip_green(textures.normal_wrinkled)
+        if self.auto.isChecked() and project.poses:
+            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+            try:
+                self.report = auto_start(project)
+            except StudioError as exc:
+                QMessageBox.critical(self, "Cannot set up from the poses", str(exc))
+                return
+            finally:
+                QApplication.restoreOverrideCursor()
         self.project = project
         self.accept()

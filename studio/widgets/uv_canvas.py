@@ -139,8 +139,11 @@ class PaintView(QGraphicsView):
 
     # navigation
     def fit(self) -> None:
-        """The whole UV square in view; it stays fitted on resize until the user zooms or pans."""
-        self.fitInView(self.canvas.layout_rect().adjusted(-8, -8, 8, 8),
+        """The chosen UV tile (or the whole UV square) in view; it stays fitted on resize until
+        the user zooms or pans."""
+        rect = self.canvas.tile_rect()
+        margin = max(rect.width(), rect.height()) / 128.0
+        self.fitInView(rect.adjusted(-margin, -margin, margin, margin),
                        Qt.AspectRatioMode.KeepAspectRatio)
         self._fitted = True
 
@@ -301,6 +304,9 @@ class UvCanvas(QWidget):
         self.backdrop.setToolTip("What the UV layout is drawn over")
         self.show_all = QCheckBox("All areas")
         self.show_all.setToolTip("Show every visible area in its colour, not only the active one")
+        self.tile = QComboBox()
+        self.tile.setToolTip("Which UDIM tile to show (the face's tiles share one atlas)")
+        self.tile_items: list = []  # cell borders and tile numbers, drawn over the layout
         self.show_wire = QCheckBox("UV wireframe")
         self.show_wire.setChecked(True)
         fit = QPushButton("Fit")
@@ -311,6 +317,7 @@ class UvCanvas(QWidget):
         head = QHBoxLayout()
         head.setContentsMargins(4, 2, 4, 2)
         head.addWidget(self.backdrop)
+        head.addWidget(self.tile)
         head.addWidget(self.show_all)
         head.addWidget(self.show_wire)
         head.addStretch(1)
@@ -323,6 +330,7 @@ class UvCanvas(QWidget):
         layout.addWidget(self.hint)
 
         self.backdrop.currentIndexChanged.connect(lambda _: self._load_background())
+        self.tile.currentIndexChanged.connect(lambda _: self.view.fit())
         self.show_all.toggled.connect(self._toggle_all)
         self.show_wire.toggled.connect(self.wire.setVisible)
         fit.clicked.connect(self.view.fit)
@@ -349,8 +357,49 @@ class UvCanvas(QWidget):
         w, h = self.mask_size()
         return QRectF(0, 0, w, h)
 
+    def tile_rect(self) -> QRectF:
+        """The chosen tile's cell in scene pixels (the whole layout for "All tiles")."""
+        tiles = self.doc.project.uv_tiles
+        tile = self.tile.currentData()
+        if tiles is None or tile is None:
+            return self.layout_rect()
+        x, y, side = tiles.layout.cells[tiles.layout.index(tile)]
+        w, h = self.mask_size()
+        return QRectF(x * w, y * h, side * w, side * h)
+
+    def _load_tiles(self) -> None:
+        """The tile chooser and each tile's border and UDIM number, for a tiled face."""
+        for item in self.tile_items:
+            self.scene.removeItem(item)
+        self.tile_items = []
+        tiles = self.doc.project.uv_tiles
+        self.tile.blockSignals(True)
+        self.tile.clear()
+        self.tile.addItem("All tiles", None)
+        if tiles is not None:
+            skin = set(self.doc.project.skin_tiles())
+            for tile in tiles.layout.tiles:
+                self.tile.addItem(f"{tile}{' (skin)' if tile in skin else ''}", tile)
+            first_skin = next((t for t in tiles.layout.tiles if t in skin), None)
+            self.tile.setCurrentIndex(self.tile.findData(first_skin) if first_skin else 0)
+            w, h = self.mask_size()
+            pen = QPen(QColor(255, 210, 90, 200), 1.5)
+            pen.setCosmetic(True)
+            for tile, (x, y, side) in zip(tiles.layout.tiles, tiles.layout.cells, strict=True):
+                box = self.scene.addRect(QRectF(x * w, y * h, side * w, side * h), pen)
+                label = self.scene.addSimpleText(str(tile))
+                label.setBrush(QColor(255, 210, 90))
+                label.setFlag(QGraphicsItem.GraphicsItemFlag.ItemIgnoresTransformations)
+                label.setPos(x * w + 4, y * h + 4)
+                for item in (box, label):
+                    item.setZValue(5)
+                    self.tile_items.append(item)
+        self.tile.setVisible(tiles is not None)
+        self.tile.blockSignals(False)
+
     def rebuild(self) -> None:
         self._coverage = None
+        self._load_tiles()
         self._load_background()
         self._load_wire()
         self.refresh_masks()
