@@ -1,0 +1,161 @@
+"""A head made elsewhere, imported as a user would: millimetres, Z up, UDIM tiles, eyes and teeth
+as separate objects, ARKit pose names (see tests/production_head.py). The automatic set-up must
+give each compressing pose a mask where it compresses the skin, the same at any scale, say why
+the others get none, and synthesise furrows a default render shows."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from studio.cli import main
+from studio.core.images import write_png
+from studio.core.project import Project
+from studio.core.project_file import load_project, save_project
+from studio.core.wrinkle_synth import is_flat
+from tests.production_head import (
+    COMPRESSING,
+    EYES_ONLY,
+    POSES,
+    REGIONS,
+    STRETCH_ONLY,
+    ProductionHead,
+    build_head,
+)
+
+NOT_FACE = ["eye_L", "eye_R", "teeth"]
+
+
+def import_head(folder, unit: str = "mm", textures: bool = False
+                ) -> tuple[ProductionHead, Project, str]:
+    """``wrinkle-studio new --auto`` on the head's OBJ set, as a user would run it."""
+    head = build_head(unit)
+    files = head.write_set(folder / unit)
+    args = ["new", "--mesh", str(files["neutral"]), "--not-face", *NOT_FACE, "--auto",
+            "-o", str(folder / f"{unit}.wrinkle")]
+    for pose in POSES:
+        args += ["--pose", f"{pose}={files[pose]}"]
+    if textures:  # a UDIM diffuse set: a colour per tile
+        for tile, colour in ((1001, (200, 150, 130)), (1002, (240, 240, 240)),
+                             (1003, (250, 245, 220))):
+            write_png(folder / f"diffuse.{tile}.png", np.full((64, 64, 3), colour, np.uint8))
+        args += ["--diffuse", str(folder / "diffuse.1001.png")]
+    return head, None, args
+
+
+@pytest.fixture(scope="module")
+def imported(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("head")
+    head, _, args = import_head(folder, textures=True)
+    import io
+    from contextlib import redirect_stdout
+
+    out = io.StringIO()
+    with redirect_stdout(out):
+        assert main(args) == 0
+    return head, load_project(folder / "mm.wrinkle"), out.getvalue(), folder
+
+
+def vertex_mask_values(project: Project, mask: np.ndarray) -> np.ndarray:
+    """(W,) each welded vertex's mask value (the largest over its render vertices' texels)."""
+    h, w = mask.shape
+    uv = project.mesh.uvs
+    rows = np.clip(((1.0 - uv[:, 1]) * h).astype(int), 0, h - 1)
+    cols = np.clip((uv[:, 0] * w).astype(int), 0, w - 1)
+    values = np.zeros(project.mesh.n_welded, np.float32)
+    np.maximum.at(values, project.mesh.weld, mask[rows, cols])
+    return values
+
+
+def test_the_udim_layout_is_packed_and_kept(imported):
+    head, project, _, folder = imported
+    tiles = project.uv_tiles
+    assert tiles is not None and tiles.layout.tiles == (1001, 1002, 1003)
+    assert project.skin_tiles() == [1001]
+    assert project.mesh.uvs.min() >= 0.0 and project.mesh.uvs.max() <= 1.0
+    # the original UDIM coordinates come back: skin in 0–1, eyes in 1–2, teeth in 2–3
+    udim = tiles.udim_uvs(project.mesh)
+    skin = project.skin_weights()[project.mesh.weld] > 0
+    assert udim[skin, 0].max() <= 1.0 and udim[~skin, 0].min() >= 1.0
+    assert udim[:, 0].max() == pytest.approx(3.0, abs=1e-5)
+    # each tile's texture sits in its own cell of the atlas
+    diffuse = project.textures.diffuse
+    assert (tiles.layout.crop(diffuse, 1001) == (200, 150, 130)).all()
+    assert (tiles.layout.crop(diffuse, 1002) == (240, 240, 240)).all()
+    # saved and reopened: the same layout and tiles
+    save_project(project, folder / "again.wrinkle")
+    again = load_project(folder / "again.wrinkle")
+    assert again.uv_tiles.layout == tiles.layout
+    assert np.array_equal(again.uv_tiles.vertex_tile, tiles.vertex_tile)
+
+
+def test_every_compressing_pose_gets_a_mask_where_it_compresses(imported):
+    head, project, _, _ = imported
+    masks = {a.name: a for a in project.influence.areas}
+    assert set(masks) == set(COMPRESSING)
+    face = head.to_sample(project.mesh.rest)
+    front = face[:, 2] > 0.2
+    for pose in COMPRESSING:
+        assert project.influence.links[pose] == {pose: 1.0}
+        values = vertex_mask_values(project, masks[pose].mask) * front
+        assert values.max() > 0.9, pose
+        centre = values @ face[:, :2] / values.sum()
+        assert np.hypot(*(centre - REGIONS[pose])) < 0.12, (pose, centre, REGIONS[pose])
+        if pose.endswith(("_L", "_R")):  # one-sided poses stay on their side (a one-sided
+            # frown squeezes the whole glabella, a little past the midline)
+            wrong = face[:, 0] < -0.06 if pose.endswith("_L") else face[:, 0] > 0.06
+            assert values[wrong].sum() < 0.15 * values.sum(), pose
+        # no mask on the eyes or teeth
+        assert not values[project.not_face].any()
+
+
+def test_stretches_and_rotations_get_no_mask_and_say_why(imported):
+    _, project, out, _ = imported
+    assert STRETCH_ONLY not in {a.name for a in project.influence.areas}
+    assert f"{STRETCH_ONLY}: no mask, it only stretches the skin" in out
+    assert f"{EYES_ONLY}: no mask, it moves no skin" in out
+    assert EYES_ONLY not in {a.pose for a in project.wdv.areas}  # only the eye moved
+    for pose in COMPRESSING:
+        line = next(line for line in out.splitlines() if line.strip().startswith(f"{pose}:"))
+        assert "compresses" in line and "% of the skin" in line and "peak" in line
+
+
+def test_the_set_up_is_the_same_in_millimetres_centimetres_and_metres(tmp_path, imported):
+    import io
+    from contextlib import redirect_stdout
+
+    _, mm, mm_out, _ = imported
+    for unit in ("cm", "m"):
+        _, _, args = import_head(tmp_path, unit)
+        with redirect_stdout(io.StringIO()) as out:
+            assert main(args) == 0
+        other = load_project(tmp_path / f"{unit}.wrinkle")
+        assert [a.name for a in other.influence.areas] == [a.name for a in mm.influence.areas]
+        for a, b in zip(mm.influence.areas, other.influence.areas, strict=True):
+            # equal but for the OBJ's 6 decimals (strains differ by < 1e-4)
+            assert np.abs(a.mask - b.mask).max() < 0.03, (unit, a.name)
+        assert [(a.name, a.pose) for a in other.wdv.areas] == [
+            (a.name, a.pose) for a in mm.wdv.areas]
+        for a, b in zip(mm.wdv.areas, other.wdv.areas, strict=True):
+            assert np.array_equal(a.authored, b.authored), (unit, a.name)
+        assert other.textures.wrinkle_map_names == mm.textures.wrinkle_map_names
+        assert out.getvalue().splitlines()[2:] == mm_out.splitlines()[2:]  # the same report
+
+
+def test_the_synthesised_furrows_lie_on_the_skin_tile_and_crossing_poses_get_own_maps(imported):
+    _, project, out, _ = imported
+    layout = project.uv_tiles.layout
+    maps = project.textures.wrinkle_maps
+    assert len(maps) >= 2  # the frown's vertical lines cross the brow raise's horizontal ones
+    by_pose = {a.name: a.wrinkle_map for a in project.influence.areas}
+    assert by_pose["browInnerUp"] != by_pose["browDown_L"]
+    assert {a.pose: a.wrinkle_map for a in project.wdv.areas}["browDown_L"] == by_pose[
+        "browDown_L"]
+    neutral = project.textures.normal_neutral
+    for image in maps.values():
+        changed = np.any(image != neutral[0, 0], axis=-1)
+        assert not is_flat(image)
+        skin_cell = layout.crop(changed, 1001)
+        assert skin_cell.mean() > 0.01  # furrows over the skin tile, not a sliver
+        assert skin_cell.sum() == changed.sum()  # and nowhere else (eyes, teeth, gaps)
+    assert "synthesised wrinkled normal maps" in out
