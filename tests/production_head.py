@@ -170,7 +170,7 @@ class ProductionHead:
             positions = part.poses.get(pose, part.rest) if pose else part.rest
             world = self.to_world(positions)
             lines += [f"o {part.name}", f"usemtl {part.name}"]
-            lines += [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in world]
+            lines += [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in world]
             uv = part.uvs + np.array([part.tile - 1001, 0.0])
             lines += [f"vt {u:.6f} {v:.6f}" for u, v in uv]
             weld = part.weld if part.weld is not None else np.arange(len(part.uvs))

@@ -5,6 +5,8 @@ the others get none, and synthesise furrows a default render shows."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -132,14 +134,20 @@ def test_the_set_up_is_the_same_in_millimetres_centimetres_and_metres(tmp_path, 
         other = load_project(tmp_path / f"{unit}.wrinkle")
         assert [a.name for a in other.influence.areas] == [a.name for a in mm.influence.areas]
         for a, b in zip(mm.influence.areas, other.influence.areas, strict=True):
-            # equal but for the OBJ's 6 decimals (strains differ by < 1e-4)
+            # equal but for float32 rounding of positions stored in each unit
             assert np.abs(a.mask - b.mask).max() < 0.03, (unit, a.name)
         assert [(a.name, a.pose) for a in other.wdv.areas] == [
             (a.name, a.pose) for a in mm.wdv.areas]
         for a, b in zip(mm.wdv.areas, other.wdv.areas, strict=True):
             assert np.array_equal(a.authored, b.authored), (unit, a.name)
         assert other.textures.wrinkle_map_names == mm.textures.wrinkle_map_names
-        assert out.getvalue().splitlines()[2:] == mm_out.splitlines()[2:]  # the same report
+        # the same report, up to the rounding of its percentages
+        for line, mm_line in zip(out.getvalue().splitlines()[2:], mm_out.splitlines()[2:],
+                                 strict=True):
+            assert re.sub(r"[\d.]+", "#", line) == re.sub(r"[\d.]+", "#", mm_line)
+            numbers = [float(x) for x in re.findall(r"\d+(?:\.\d+)?", line)]
+            expected = [float(x) for x in re.findall(r"\d+(?:\.\d+)?", mm_line)]
+            np.testing.assert_allclose(numbers, expected, atol=1.0)
 
 
 def test_the_synthesised_furrows_lie_on_the_skin_tile_and_crossing_poses_get_own_maps(imported):
