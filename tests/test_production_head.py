@@ -29,7 +29,7 @@ NOT_FACE = ["eye_L", "eye_R", "teeth"]
 
 
 def import_head(folder, unit: str = "mm", textures: bool = False
-                ) -> tuple[ProductionHead, Project, str]:
+                ) -> tuple[ProductionHead, None, list[str]]:
     """``wrinkle-studio new --auto`` on the head's OBJ set, as a user would run it."""
     head = build_head(unit)
     files = head.write_set(folder / unit)
@@ -70,7 +70,7 @@ def vertex_mask_values(project: Project, mask: np.ndarray) -> np.ndarray:
 
 
 def test_the_udim_layout_is_packed_and_kept(imported):
-    head, project, _, folder = imported
+    _, project, _, folder = imported
     tiles = project.uv_tiles
     assert tiles is not None and tiles.layout.tiles == (1001, 1002, 1003)
     assert project.skin_tiles() == [1001]

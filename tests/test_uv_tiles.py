@@ -89,7 +89,7 @@ def test_uvs_outside_the_udim_range_are_refused_with_the_file():
     rest = np.eye(3, dtype=np.float32)
     mesh = FaceMesh(rest, np.array([[0, 1, 2]]), np.array([[-3, 0], [-2, 0], [-3, 1]]),
                     np.arange(3), source="head.obj")
-    with pytest.raises(StudioError, match="head.obj.*UDIM"):
+    with pytest.raises(StudioError, match=r"head\.obj.*UDIM"):
         pack_mesh(mesh)
 
 
