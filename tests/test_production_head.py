@@ -29,7 +29,7 @@ NOT_FACE = ["eye_L", "eye_R", "teeth"]
 
 
 def import_head(folder, unit: str = "mm", textures: bool = False
-                ) -> tuple[ProductionHead, None, list[str]]:
+                ) -> tuple[ProductionHead, list[str]]:
     """``wrinkle-studio new --auto`` on the head's OBJ set, as a user would run it."""
     head = build_head(unit)
     files = head.write_set(folder / unit)
@@ -42,13 +42,13 @@ def import_head(folder, unit: str = "mm", textures: bool = False
                              (1003, (250, 245, 220))):
             write_png(folder / f"diffuse.{tile}.png", np.full((64, 64, 3), colour, np.uint8))
         args += ["--diffuse", str(folder / "diffuse.1001.png")]
-    return head, None, args
+    return head, args
 
 
 @pytest.fixture(scope="module")
 def imported(tmp_path_factory):
     folder = tmp_path_factory.mktemp("head")
-    head, _, args = import_head(folder, textures=True)
+    head, args = import_head(folder, textures=True)
     import io
     from contextlib import redirect_stdout
 
@@ -128,7 +128,7 @@ def test_the_set_up_is_the_same_in_millimetres_centimetres_and_metres(tmp_path, 
 
     _, mm, mm_out, _ = imported
     for unit in ("cm", "m"):
-        _, _, args = import_head(tmp_path, unit)
+        _, args = import_head(tmp_path, unit)
         with redirect_stdout(io.StringIO()) as out:
             assert main(args) == 0
         other = load_project(tmp_path / f"{unit}.wrinkle")
