@@ -41,6 +41,7 @@ from studio.core.textures import MAX_WRINKLE_MAPS
 from studio.core.wrinkle_synth import (
     SynthOptions,
     default_size,
+    face_options,
     is_flat,
     synthesise_wrinkle_map,
 )
@@ -84,25 +85,27 @@ class SynthDialog(QDialog):
         self.target = QLabel()
         self.target.setWordWrap(True)
         form.addRow("", self.target)
+        current = default_size(textures)
+        suggested = face_options(project, current)  # furrows scaled to this face's size
         self.spacing = QDoubleSpinBox()
         self.spacing.setRange(3.0, 128.0)
-        self.spacing.setValue(SynthOptions.spacing)
+        self.spacing.setValue(suggested.spacing)
         self.spacing.setSuffix(" texels")
         self.spacing.setToolTip("Distance between neighbouring furrows, at the map's size")
         form.addRow("Furrow spacing:", self.spacing)
         self.depth = QDoubleSpinBox()
         self.depth.setRange(0.1, 20.0)
         self.depth.setSingleStep(0.25)
-        self.depth.setValue(SynthOptions.depth)
+        self.depth.setValue(suggested.depth)
         self.depth.setSuffix(" texels")
         self.depth.setToolTip("Depth of a furrow where the skin is fully compressed")
         form.addRow("Furrow depth:", self.depth)
         self.size = QComboBox()
         for s in MAP_SIZES:
             self.size.addItem(f"{s} × {s}", s)
-        current = default_size(textures)
         self.size.setCurrentIndex(int(np.argmin([abs(s - current) for s in MAP_SIZES])))
         form.addRow("Map size:", self.size)
+        self.size.currentIndexChanged.connect(lambda _: self._scale_furrows(project))
         self.poses = QListWidget()
         for pose in project.poses:
             item = QListWidgetItem(pose.name)
@@ -141,6 +144,12 @@ class SynthDialog(QDialog):
         self.target.setText(text)
         ok = self.buttons.button(QDialogButtonBox.StandardButton.Ok)
         ok.setEnabled(bool(name) and bool(self.chosen_poses()))
+
+    def _scale_furrows(self, project) -> None:
+        """Keep the furrows the same on the face when the map's size changes."""
+        options = face_options(project, int(self.size.currentData()))
+        self.spacing.setValue(options.spacing)
+        self.depth.setValue(options.depth)
 
     def chosen_poses(self) -> list[str]:
         items = (self.poses.item(i) for i in range(self.poses.count()))
