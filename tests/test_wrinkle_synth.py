@@ -178,3 +178,20 @@ def test_only_a_flat_placeholder_is_filled_in():
     assert filled.shape == (64, 64, 3) and not synth.is_flat(filled)
     assert synth.fill_placeholder(project, small) == {}  # nothing flat is left
     assert synth.default_size(project.textures) == 1024
+
+
+def test_poses_whose_furrows_cross_are_kept_apart():
+    """Squeezing the left half along x (furrows along y) and along y (furrows along x) cross
+    there: two maps. The same x-squeeze of the right half joins the first (no overlap), and a
+    stronger x-squeeze of the left half too (parallel furrows)."""
+    mesh = grid_mesh()
+    left = mesh.rest[:, 0] < 0.0
+    along_y = mesh.rest.copy()
+    along_y[:, 1] = np.where(left, mesh.rest[:, 1] * 0.9, mesh.rest[:, 1])
+    right = mesh.rest.copy()
+    right[:, 0] = np.where(~left, mesh.rest[:, 0] * 0.9, mesh.rest[:, 0])
+    targets = [squeezed(mesh.rest), along_y, right, squeezed(mesh.rest, 0.8), mesh.rest]
+    fields = synth.furrow_fields(mesh, targets, OPTIONS)
+    assert synth.crossing_groups(fields, 4, SIZE) == [[0, 2, 3], [1]]
+    # with room for one map only, everything shares it
+    assert synth.crossing_groups(fields, 1, SIZE) == [[0, 1, 2, 3]]

@@ -331,39 +331,59 @@ def synthesise_height(mesh: FaceMesh, targets: Sequence[Array], options: SynthOp
     return None if depth is None else (-options.depth * depth).astype(np.float32)
 
 
-def crossing(a: FurrowField, b: FurrowField, strong: float = 0.25) -> bool:
-    """Whether two poses' furrows cross: where both are strong, their orientations differ by
-    more than ``CROSSING_ANGLE`` on more than ``CROSSING_SHARE`` of the smaller one's texels.
-    One map cannot hold both: either pose would reveal the other's furrows too."""
-    sa, sb = a.amount > strong, b.amount > strong
-    common, ia, ib = np.intersect1d(a.index[sa], b.index[sb], assume_unique=True,
-                                    return_indices=True)
-    if common.size == 0:
-        return False
-    angle_a = (a.lower[sa][ia] + a.frac[sa][ia]) * (180.0 / BINS)
-    angle_b = (b.lower[sb][ib] + b.frac[sb][ib]) * (180.0 / BINS)
-    diff = np.abs(angle_a - angle_b) % 180.0
-    diff = np.minimum(diff, 180.0 - diff)
-    smaller = max(min(int(sa.sum()), int(sb.sum())), 1)
-    return (diff > CROSSING_ANGLE).sum() > CROSSING_SHARE * smaller
+class _GroupFurrows:
+    """A map's furrows so far: each texel's strongest orientation (degrees), for checking a
+    further pose against all the map's poses in one pass over its own texels."""
+
+    def __init__(self, size: int) -> None:
+        self.angle = np.full(size * size, np.nan, np.float32)
+        self.amount = np.zeros(size * size, np.float32)
+
+    def crosses(self, f: FurrowField, strong: float) -> int:
+        """How many of the pose's strong texels meet strong furrows of this map more than
+        ``CROSSING_ANGLE`` apart."""
+        mine = f.amount > strong
+        index = f.index[mine]
+        theirs = self.amount[index] > strong
+        diff = np.abs(_degrees(f)[mine][theirs] - self.angle[index[theirs]]) % 180.0
+        diff = np.minimum(diff, 180.0 - diff)
+        return int((diff > CROSSING_ANGLE).sum())
+
+    def add(self, f: FurrowField) -> None:
+        stronger = f.amount > self.amount[f.index]
+        self.angle[f.index[stronger]] = _degrees(f)[stronger]
+        self.amount[f.index[stronger]] = f.amount[stronger]
 
 
-def crossing_groups(fields: Sequence[FurrowField], most: int) -> list[list[int]]:
-    """Poses (by index) grouped so that no two in a group have crossing furrows, in at most
-    ``most`` groups (greedy colouring in pose order; past ``most``, a pose joins the group it
-    crosses least). Poses without furrows join the first group."""
+def _degrees(f: FurrowField) -> Array:
+    return ((f.lower + f.frac) * (180.0 / BINS)).astype(np.float32)
+
+
+def crossing_groups(fields: Sequence[FurrowField], most: int, size: int,
+                    strong: float = 0.25) -> list[list[int]]:
+    """Poses (by index) grouped so that no two in a group have crossing furrows — where both
+    are strong, orientations more than ``CROSSING_ANGLE`` apart on more than
+    ``CROSSING_SHARE`` of the pose's strong texels: one map cannot hold both, either pose would
+    reveal the other's furrows too. Greedy in pose order, at most ``most`` groups (past that a
+    pose joins the group it crosses least); poses without furrows are left out."""
     groups: list[list[int]] = []
+    state: list[_GroupFurrows] = []
     for i, f in enumerate(fields):
         if f.index.size == 0:
             continue
-        clashes = [sum(crossing(f, fields[j]) for j in group) for group in groups]
-        free = [k for k, c in enumerate(clashes) if c == 0]
+        allowed = CROSSING_SHARE * max(int((f.amount > strong).sum()), 1)
+        clashes = [g.crosses(f, strong) for g in state]
+        free = [k for k, c in enumerate(clashes) if c <= allowed]
         if free:
-            groups[free[0]].append(i)
+            k = free[0]
         elif len(groups) < most:
-            groups.append([i])
+            groups.append([])
+            state.append(_GroupFurrows(size))
+            k = len(groups) - 1
         else:
-            groups[int(np.argmin(clashes))].append(i)
+            k = int(np.argmin(clashes))
+        groups[k].append(i)
+        state[k].add(f)
     return groups or [[]]
 
 
@@ -442,7 +462,7 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None
     targets = [p.positions for p in project.poses]
     fields = furrow_fields(project.mesh, targets, options, project.skin_weights())
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
-    groups = crossing_groups(fields, room)
+    groups = crossing_groups(fields, room, options.size)
     neutral = textures.normal_neutral
     made: dict[str, list[str]] = {}
     for k, group in enumerate(groups):
@@ -457,11 +477,11 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None
 
 def _default_map_size(project: Project) -> int:
     """A power of two that does the face's other maps justice, and keeps about 1024 texels
-    across a skin tile of an atlas; at most 4096."""
+    across a skin tile of an atlas; at most 2048 (a map per group of poses is made)."""
     size = default_size(project.textures)
     if project.uv_tiles is not None:
         size = max(size, round(1024 / project.uv_tiles.layout.largest_cell()))
-    return min(_power_of_two(size), 4096)
+    return min(_power_of_two(size), 2048)
 
 
 def _power_of_two(size: int) -> int:
