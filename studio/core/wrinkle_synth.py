@@ -241,9 +241,11 @@ def valley(phase: Array) -> Array:
 
 
 def furrow_depths(fields: Sequence[FurrowField], size: int, spacing: float, seed: int,
-                  progress: Progress | None = None, done: int = 0, total: int = 0
-                  ) -> Array | None:
-    """(size, size) max over poses of amount × valley(phase); None if ``progress`` stopped."""
+                  progress: Progress | None = None, done: int = 0, total: int = 0,
+                  groups: Sequence[Sequence[int]] | None = None) -> Array | list[Array] | None:
+    """(size, size) max over poses of amount × valley(phase); None if ``progress`` stopped.
+    With ``groups`` (lists of field indices), one such image per group, from one pass over
+    the filter bank (its inverse FFTs are the cost)."""
     needed = sorted(set().union(*(f.bins() for f in fields)))
     bank = PhasorBank(size, spacing, seed) if needed else None
     sums = [np.zeros(len(f.index), np.complex64) for f in fields]
@@ -258,10 +260,14 @@ def furrow_depths(fields: Sequence[FurrowField], size: int, spacing: float, seed
             acc[up] += f.frac[up] * (np.conj(z[f.index[up]]) if k == 0 else z[f.index[up]])
         if progress is not None and not progress(done + n + 1, total):
             return None
-    depth = np.zeros(size * size, np.float32)
-    for f, acc in zip(fields, sums, strict=True):
-        np.maximum.at(depth, f.index, f.amount * valley(np.angle(acc)).astype(np.float32))
-    return depth.reshape(size, size)
+    images = []
+    for group in (groups if groups is not None else [range(len(fields))]):
+        depth = np.zeros(size * size, np.float32)
+        for i in group:
+            f = fields[i]
+            np.maximum.at(depth, f.index, f.amount * valley(np.angle(sums[i])).astype(np.float32))
+        images.append(depth.reshape(size, size))
+    return images if groups is not None else images[0]
 
 
 # --- 4. the map ----------------------------------------------------------------------------------
@@ -465,9 +471,8 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None
     groups = crossing_groups(fields, room, options.size)
     neutral = textures.normal_neutral
     made: dict[str, list[str]] = {}
-    for k, group in enumerate(groups):
-        depth = furrow_depths([fields[i] for i in group], options.size, options.spacing,
-                              options.seed)
+    depths = furrow_depths(fields, options.size, options.spacing, options.seed, groups=groups)
+    for k, (group, depth) in enumerate(zip(groups, depths, strict=True)):
         normal = height_to_map((-options.depth * depth).astype(np.float32), neutral)
         map_name = name if k == 0 else unique_name(f"{name} {k + 1}", textures.wrinkle_maps)
         textures.set_wrinkle_map(map_name, normal)
