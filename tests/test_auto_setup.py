@@ -241,3 +241,20 @@ def test_strain_to_wdv_area_takes_the_compressed_vertices_and_their_motion(face)
     assert not auto.strain_wdv_area(face, {"squeeze": 1.0}).authored[face.not_face].any()
     with pytest.raises(StudioError, match=r"above 0\.99"):
         auto.strain_wdv_area(face, {"squeeze": 1.0}, threshold=0.99)
+
+
+@pytest.mark.parametrize("stop_at", [1, 3, 5])  # during the set-up, at its end, in synthesis
+def test_a_cancelled_auto_start_leaves_the_project_untouched(face, stop_at):
+    calls = []
+
+    def progress(done: int, total: int) -> bool:
+        calls.append((done, total))
+        return len(calls) < stop_at
+
+    assert auto.auto_start(face, progress=progress) is None
+    assert face.influence.areas == [] and face.wdv.areas == []
+    assert face.textures.wrinkle_map_names == ["wrinkles"]
+    assert is_flat(face.textures.normal_wrinkled)
+    assert len(calls) == stop_at and all(0 < d <= t for d, t in calls)
+    done = auto.auto_start(face, progress=lambda d, t: True)
+    assert done is not None and face.influence.areas and not is_flat(face.textures.normal_wrinkled)

@@ -160,14 +160,16 @@ def setup_mask_size(project: Project, mask_size: int | None) -> tuple[int, int]:
 def suggest_setup(project: Project, *, mask_size: int | None = None,
                   poses: Iterable[str] | None = None, fraction: float = SUGGEST_FRACTION,
                   threshold: float = MASK_THRESHOLD, softness: float = MASK_SOFTNESS,
-                  locate: Callable[[Array], str] | None = None) -> AutoSetupReport:
+                  locate: Callable[[Array], str] | None = None,
+                  progress: Callable[[int, int], bool] | None = None) -> AutoSetupReport | None:
     """The areas and links an automatic setup would add, without changing the project.
 
     For each key pose (all, or ``poses``): a WDV area named after it on the vertices it moves by
     more than ``fraction`` of its largest skin motion, and a soft mask from its compression
     linked to it with gain 1. Poses that move or compress no skin are reported instead.
     Each pose's strain goes into the report; ``locate`` names the region of a neutral-face
-    point, for the report to say where a pose compresses the skin.
+    point, for the report to say where a pose compresses the skin. None if ``progress``
+    (called with poses done, poses in all) returned False.
     """
     names = [p.name for p in project.poses] if poses is None else list(poses)
     shape = setup_mask_size(project, mask_size)
@@ -179,7 +181,9 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     strain = SkinStrain(project.mesh, skin)
     size = face_size(project)
     raster = UvRaster(project.mesh, min(max(shape), SETUP_WORK_SIZE))
-    for name in names:
+    for done, name in enumerate(names, start=1):
+        if progress is not None and not progress(done, len(names)):
+            return None
         if name == NEUTRAL:
             continue
         target = project.pose(name).positions
@@ -246,15 +250,30 @@ def auto_setup(project: Project, *, mask_size: int | None = None, **options) -> 
     return report
 
 
-def auto_start(project: Project, locate: Callable[[Array], str] | None = None) -> list[str]:
+def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
+               progress: Callable[[int, int], bool] | None = None) -> list[str] | None:
     """``wrinkle-studio new --auto``: the automatic setup and, for a face that came without a
     wrinkled normal map (a flat placeholder), maps synthesised from its key poses — several
     where poses' furrows cross, each pose's areas revealing its own — so that the imported face
-    shows wrinkles at once. Returns what was done, a line each."""
-    report = auto_setup(project, locate=locate)
+    shows wrinkles at once. Returns what was done, a line each; None, with the project
+    untouched, if ``progress`` (done, total: the set-up's steps then the synthesis's) returned
+    False."""
+    steps = len(project.poses)
+    report = suggest_setup(project, locate=locate, progress=progress)
+    if report is None:
+        return None
+    textures = dict(project.textures.wrinkle_maps)
+
+    def synth_progress(done: int, total: int) -> bool:
+        return progress is None or progress(steps + done, steps + total)
+
+    made = fill_placeholder(project, progress=synth_progress)
+    if made is None:
+        project.textures.wrinkle_maps = textures
+        return None
+    apply_setup(project, report)
     lines = [f"auto setup: {report.summary()}",
              *(f"  {line}" for line in report.pose_lines())]
-    made = fill_placeholder(project)
     for map_name, poses in made.items():
         reveal_map(project, report, poses, map_name)
     if made:

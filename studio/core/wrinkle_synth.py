@@ -451,13 +451,13 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
     return max(least, *(max(image.shape[:2]) for image in images))
 
 
-def fill_placeholder(project: Project, options: SynthOptions | None = None
-                     ) -> dict[str, list[str]]:
+def fill_placeholder(project: Project, options: SynthOptions | None = None,
+                     progress: Progress | None = None) -> dict[str, list[str]] | None:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
     imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
     lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
     shader's four). Returns {map name: its poses}; empty if every map is authored or the face
-    has no key poses."""
+    has no key poses; None if ``progress`` (called with done, total) returned False."""
     textures = project.textures
     name = next((n for n, image in textures.wrinkle_maps.items() if is_flat(image)), None)
     if name is None or not project.poses:
@@ -466,12 +466,19 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None
         options = face_options(project, _default_map_size(project))
     names = [p.name for p in project.poses]
     targets = [p.positions for p in project.poses]
-    fields = furrow_fields(project.mesh, targets, options, project.skin_weights())
+    total = len(targets) + BINS
+    fields = furrow_fields(project.mesh, targets, options, project.skin_weights(), progress,
+                           total)
+    if fields is None:
+        return None
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
     groups = crossing_groups(fields, room, options.size)
     neutral = textures.normal_neutral
     made: dict[str, list[str]] = {}
-    depths = furrow_depths(fields, options.size, options.spacing, options.seed, groups=groups)
+    depths = furrow_depths(fields, options.size, options.spacing, options.seed, progress,
+                           len(targets), total, groups)
+    if depths is None:
+        return None
     for k, (group, depth) in enumerate(zip(groups, depths, strict=True)):
         normal = height_to_map((-options.depth * depth).astype(np.float32), neutral)
         map_name = name if k == 0 else unique_name(f"{name} {k + 1}", textures.wrinkle_maps)

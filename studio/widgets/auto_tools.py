@@ -18,7 +18,6 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
-    QApplication,
     QCheckBox,
     QComboBox,
     QDialog,
@@ -30,7 +29,6 @@ from PySide6.QtWidgets import (
     QListWidgetItem,
     QMenu,
     QMessageBox,
-    QProgressDialog,
     QVBoxLayout,
 )
 
@@ -49,6 +47,7 @@ from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.document import Document
 from studio.widgets.map_tools import WrinkleMapsCommand
 from studio.widgets.mask_edits import AreasCommand
+from studio.widgets.progress import progress_dialog
 from studio.widgets.wdv_edits import AreaListCommand
 
 MAP_SIZES = (512, 1024, 2048, 4096)
@@ -191,14 +190,17 @@ class AutoTools:
             QMessageBox.information(self.window, "Auto Setup",
                                     "This face has no key poses to start from.")
             return None
-        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+        progress, step = progress_dialog(self.window, "Auto Setup",
+                                         "Measuring how each key pose moves the skin…")
         try:
-            report = auto_setup.suggest_setup(project)
+            report = auto_setup.suggest_setup(project, progress=step)
         except StudioError as exc:
             self.window.show_error("Cannot set up from the poses", exc)
             return None
         finally:
-            QApplication.restoreOverrideCursor()
+            progress.close()
+        if report is None:  # cancelled
+            return None
         if not report.empty:
             self._push_areas("Auto Setup from Poses", report.influence_areas, report.links,
                              report.wdv_areas)
@@ -259,17 +261,8 @@ class AutoTools:
                    over_neutral: bool = True, reveal: bool = True) -> bool:
         """Run the synthesis with a progress dialog (shown if it takes more than a moment);
         True when a map was added or replaced, False if cancelled or refused."""
-        progress = QProgressDialog("Synthesising the wrinkled normal map…", "Cancel", 0, 1,
-                                   self.window)
-        progress.setWindowTitle("Synthesise Wrinkled Normal Map")
-        progress.setWindowModality(Qt.WindowModality.WindowModal)
-        progress.setMinimumDuration(400)
-
-        def step(done: int, total: int) -> bool:
-            progress.setMaximum(total)
-            progress.setValue(done)
-            return not progress.wasCanceled()
-
+        progress, step = progress_dialog(self.window, "Synthesise Wrinkled Normal Map",
+                                         "Synthesising the wrinkled normal map…")
         try:
             result = synthesise_wrinkle_map(self.doc.project, poses, options,
                                             over_neutral=over_neutral, progress=step)

@@ -11,7 +11,6 @@ from pathlib import Path
 
 from PySide6.QtCore import QSettings, Qt
 from PySide6.QtWidgets import (
-    QApplication,
     QButtonGroup,
     QCheckBox,
     QComboBox,
@@ -39,6 +38,7 @@ from studio.core.meshio import ObjGroup, obj_groups
 from studio.core.normalmap import flip_green
 from studio.core.project import Project
 from studio.widgets.dialog_buttons import action_buttons
+from studio.widgets.progress import progress_dialog
 
 MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
 # Kinds of OBJ part, in the order preferred when two have as many names.
@@ -263,13 +263,17 @@ class NewProjectDialog(QDialog):
             textures.normal_neutral = flip_green(textures.normal_neutral)
             textures.normal_wrinkled = flip_green(textures.normal_wrinkled)
         if self.auto.isChecked() and project.poses:
-            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+            progress, step = progress_dialog(self, "Auto set-up",
+                                             "Setting up wrinkles from the key poses…")
             try:
-                self.report = auto_start(project)
+                self.report = auto_start(project, progress=step)
             except StudioError as exc:
                 QMessageBox.critical(self, "Cannot set up from the poses", str(exc))
                 return
             finally:
-                QApplication.restoreOverrideCursor()
+                progress.close()
+            if self.report is None:  # cancelled: the dialog stays, nothing was made
+                self.report = []
+                return
         self.project = project
         self.accept()
