@@ -167,3 +167,32 @@ def test_the_synthesised_furrows_lie_on_the_skin_tile_and_crossing_poses_get_own
         assert skin_cell.mean() > 0.01  # furrows over the skin tile, not a sliver
         assert skin_cell.sum() == changed.sum()  # and nowhere else (eyes, teeth, gaps)
     assert "synthesised wrinkled normal maps" in out
+
+
+def test_a_gltf_with_udim_coordinates_is_packed_the_same_way(imported):
+    """A glTF from elsewhere (no studio extras) whose UVs run over three tiles: imported, its
+    UVs are packed like the OBJ set's, and its own image is tile 1001's."""
+    from studio.core.assemble import project_from_files
+    from studio.core.gltf import save_gltf
+    from studio.core.mesh import FaceMesh
+
+    _, project, _, folder = imported
+    tiles = project.uv_tiles
+    foreign = Project("foreign", FaceMesh(project.mesh.rest, project.mesh.triangles,
+                                          tiles.udim_uvs(project.mesh), project.mesh.weld),
+                      list(project.poses), project.textures, not_face=project.not_face)
+    foreign.textures.diffuse = np.full((32, 32, 3), (180, 120, 100), np.uint8)
+    save_gltf(foreign, folder / "foreign.glb")
+    imported_again = project_from_files(folder / "foreign.glb")
+    assert imported_again.uv_tiles.layout == tiles.layout
+    np.testing.assert_allclose(imported_again.uv_tiles.udim_uvs(imported_again.mesh)
+                               [imported_again.mesh.triangles],
+                               tiles.udim_uvs(project.mesh)[project.mesh.triangles], atol=1e-5)
+    layout = imported_again.uv_tiles.layout
+    assert (layout.crop(imported_again.textures.diffuse, 1001) == (180, 120, 100)).all()
+    assert [p.name for p in imported_again.poses] == [p.name for p in project.poses]
+    # and the studio's own export keeps the tiles exactly
+    save_gltf(project, folder / "own.glb")
+    own = project_from_files(folder / "own.glb")
+    assert own.uv_tiles.layout == tiles.layout
+    assert np.array_equal(own.uv_tiles.vertex_tile, tiles.vertex_tile)
