@@ -18,6 +18,7 @@ from PySide6.QtGui import QUndoStack
 from studio.core.camera import OrbitCamera
 from studio.core.project import Project
 from studio.core.relief import DEFAULT_RELIEF_DEPTH, suggested_relief_depth
+from studio.core.wdv import WdvArea
 from studio.render.renderer import BLENDS, RELIEFS, TECHNIQUES, VIEW_MODES
 from studio.widgets.commands import ValueCommand
 
@@ -78,6 +79,7 @@ class Document(QObject):
     timelineChanged = Signal()  # keys, interpolation, range, frame rate
     playheadChanged = Signal()  # the current time
     viewChanged = Signal()  # ViewState (technique, debug view, light)
+    currentWdvAreaChanged = Signal()  # the technique-2 area that Create, Suggest, … act on
     cameraChanged = Signal()
     pathChanged = Signal()
     modifiedChanged = Signal(bool)
@@ -91,6 +93,7 @@ class Document(QObject):
 
     # --- the whole project ---------------------------------------------------------------------
     def _load(self, project: Project, path: Path | None) -> None:
+        self._current_wdv: WdvArea | None = None
         self.project = project
         self.path = path
         self.pose_weights: dict[str, float] = {
@@ -174,19 +177,34 @@ class Document(QObject):
         self._push("Expression factor", lambda: wdv.expression_factor, apply, float(value), key)
 
     def set_cone_angle(self, degrees: float, gesture: int | None = None) -> None:
-        """Cone half-angle θ_max of every technique-2 area."""
-        areas = self.project.wdv.areas
+        """Cone half-angle θ_max of the current technique-2 area (the others keep theirs)."""
+        area = self.current_wdv_area
+        if area is None:
+            return
 
-        def read() -> tuple[float, ...]:
-            return tuple(a.cone_angle_deg for a in areas)
-
-        def apply(values: tuple[float, ...]) -> None:
-            for area, v in zip(areas, values, strict=True):
-                area.cone_angle_deg = v
+        def apply(value: float) -> None:
+            area.cone_angle_deg = value
             self.wdvChanged.emit()
 
-        key = None if gesture is None else ("cone", gesture)
-        self._push("Cone angle", read, apply, tuple(float(degrees) for _ in areas), key)
+        key = None if gesture is None else ("cone", id(area), gesture)
+        self._push(f"Cone angle {area.name}", lambda: area.cone_angle_deg, apply,
+                   float(degrees), key)
+
+    # --- the current technique-2 area: what its panel, Create and the cone slider act on ---------
+    @property
+    def current_wdv_area(self) -> WdvArea | None:
+        """The chosen area; the first one when none is chosen or the chosen one left the list
+        (deleted, or its addition undone)."""
+        areas = self.project.wdv.areas
+        if not any(a is self._current_wdv for a in areas):
+            self._current_wdv = areas[0] if areas else None
+        return self._current_wdv
+
+    def set_current_wdv_area(self, area: WdvArea | None) -> None:
+        """Choose the area (view state, not an edit; the area-list commands restore it)."""
+        if area is not self._current_wdv:
+            self._current_wdv = area
+            self.currentWdvAreaChanged.emit()
 
     # --- derived values ------------------------------------------------------------------------
     def activations(self) -> np.ndarray:

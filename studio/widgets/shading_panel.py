@@ -73,14 +73,13 @@ class ShadingPanel(QWidget):
         self.expression = SliderRow("Expression factor", 0.0, 2.0)
         self.expression.edited.connect(document.set_expression_factor)
         self.cone = SliderRow("Cone angle", 1.0, 90.0, 0, "°")
-        self.cone.setToolTip("Half-angle θ_max of the cone around each wrinkle direction "
-                             "(all areas)")
         self.cone.edited.connect(document.set_cone_angle)
         t2_form.addRow(self.expression)
         t2_form.addRow(self.cone)
         layout.addWidget(t2_box)
         layout.addStretch(1)
-        for signal in (document.viewChanged, document.wdvChanged, document.projectReplaced):
+        for signal in (document.viewChanged, document.wdvChanged, document.projectReplaced,
+                       document.currentWdvAreaChanged):
             signal.connect(self._show_values)
         self._show_values()
 
@@ -117,6 +116,8 @@ class ShadingPanel(QWidget):
         self.light_elevation.set_value(view.light_elevation)
         wdv = self.doc.project.wdv
         self.expression.set_value(wdv.expression_factor)
-        angles = [a.cone_angle_deg for a in wdv.areas]
-        self.cone.set_value(angles[0] if angles else 20.0)
-        self.cone.setEnabled(bool(angles))
+        current = self.doc.current_wdv_area
+        self.cone.set_value(current.cone_angle_deg if current is not None else 20.0)
+        self.cone.setEnabled(current is not None)
+        self.cone.setToolTip(f"Half-angle θ_max of the cone of the current technique-2 area"
+                             f"{f' “{current.name}”' if current else ''} (Wrinkle vectors panel)")

@@ -64,23 +64,29 @@ class SelectionCommand(QUndoCommand):
 
 class AreaListCommand(QUndoCommand):
     """Replaces the list of areas (add, delete, reorder): it keeps references to the area
-    objects, never copies of their vectors."""
+    objects, never copies of their vectors. The current area is part of the step: undo gives
+    back the one chosen before, redo the one chosen after (``current``: the area to choose;
+    by default the current one, if it stays in the list)."""
 
-    def __init__(self, doc: Document, areas: list[WdvArea], text: str) -> None:
+    def __init__(self, doc: Document, areas: list[WdvArea], text: str,
+                 current: WdvArea | None = None) -> None:
         super().__init__(text)
         self.doc = doc
         self.old = list(doc.project.wdv.areas)
         self.new = list(areas)
+        self.old_current = doc.current_wdv_area
+        self.new_current = current if current is not None else self.old_current
 
-    def _apply(self, areas: list[WdvArea]) -> None:
+    def _apply(self, areas: list[WdvArea], current: WdvArea | None) -> None:
         self.doc.project.wdv.areas[:] = areas
+        self.doc.set_current_wdv_area(current if any(a is current for a in areas) else None)
         self.doc.wdvChanged.emit()
 
     def redo(self) -> None:
-        self._apply(self.new)
+        self._apply(self.new, self.new_current)
 
     def undo(self) -> None:
-        self._apply(self.old)
+        self._apply(self.old, self.old_current)
 
 
 class VectorsCommand(QUndoCommand):
@@ -135,7 +141,8 @@ def add_area(doc: Document, name: str = "area", pose: str | None = None) -> WdvA
                   AREA_COLOURS[len(wdv.areas) % len(AREA_COLOURS)])
     taken = (a.name for a in wdv.areas)
     area = WdvArea.empty(unique_name(name, taken), pose, doc.project.mesh.n_welded, colour=colour)
-    doc.undo_stack.push(AreaListCommand(doc, [*wdv.areas, area], f"Add area {area.name}"))
+    doc.undo_stack.push(AreaListCommand(doc, [*wdv.areas, area], f"Add area {area.name}",
+                                        current=area))
     return area
 
 

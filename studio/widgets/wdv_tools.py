@@ -35,7 +35,6 @@ class WdvTools(QObject):
         self.tool = SelectTool(self)
         self.select_through = False
         self.cone_paint_value = 8.0  # degrees the cone brush paints (Ctrl paints "area's angle")
-        self._current: WdvArea | None = None
         self._posed: np.ndarray | None = None
         self._normals: np.ndarray | None = None
         self._edges: np.ndarray | None = None
@@ -46,21 +45,21 @@ class WdvTools(QObject):
         doc.wdvChanged.connect(self._wdv_changed)
         doc.selectionChanged.connect(self._selection_changed)
         doc.viewChanged.connect(self._view_changed)
+        doc.currentWdvAreaChanged.connect(self._current_changed)
         self._project_changed()
 
     # --- the current area (view state) ---------------------------------------------------------
     @property
     def current_area(self) -> WdvArea | None:
-        areas = self.doc.project.wdv.areas
-        if self._current not in areas:
-            self._current = areas[0] if areas else None
-        return self._current
+        """The document's current area (it belongs there: undo and redo restore it)."""
+        return self.doc.current_wdv_area
 
     def set_current_area(self, area: WdvArea | None) -> None:
-        if area is not self._current:
-            self._current = area
-            self._selection_changed()
-            self.currentAreaChanged.emit()
+        self.doc.set_current_wdv_area(area)
+
+    def _current_changed(self) -> None:
+        self._selection_changed()
+        self.currentAreaChanged.emit()
 
     # --- caches from the document --------------------------------------------------------------
     def _project_changed(self) -> None:

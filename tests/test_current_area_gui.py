@@ -1,0 +1,65 @@
+"""The current technique-2 area lives in the document: what the Wrinkle vectors panel, Create
+and the Shading panel's cone slider act on — kept through undo and redo (issue 19's bugs)."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt
+
+
+def click_row(qtbot, panel, row: int) -> None:
+    rect = panel.area_list.visualItemRect(panel.area_list.item(row))
+    qtbot.mouseClick(panel.area_list.viewport(), Qt.MouseButton.LeftButton, pos=rect.center())
+
+
+def test_add_then_undo_then_redo_keeps_the_new_area_current(window, qtbot):
+    doc, panel = window.doc, window.wdv_tools.panel
+    window.docks["Wrinkle vectors"].show()
+    window.docks["Wrinkle vectors"].raise_()
+    qtbot.waitUntil(panel.add_button.isVisible)
+    before = [a.name for a in doc.project.wdv.areas]
+    click_row(qtbot, panel, 1)  # "eye corners"
+    assert window.wdv_tools.current_area.name == before[1]
+    qtbot.mouseClick(panel.add_button, Qt.MouseButton.LeftButton)
+    added = doc.project.wdv.areas[-1]
+    assert window.wdv_tools.current_area is added
+    assert panel.create_button.text() == f"Create for “{added.name}”"
+    window.activateWindow()
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert [a.name for a in doc.project.wdv.areas] == before
+    assert window.wdv_tools.current_area.name == before[1]  # what was current before the add
+    qtbot.keyClick(window, Qt.Key.Key_Z,
+                   Qt.KeyboardModifier.ControlModifier | Qt.KeyboardModifier.ShiftModifier)
+    assert window.wdv_tools.current_area is added  # not the first area: Create must not rewrite it
+    assert panel.create_button.text() == f"Create for “{added.name}”"
+    assert panel.area_list.currentRow() == len(before)
+
+
+def test_the_cone_slider_shows_and_sets_the_current_area_only(window, qtbot):
+    doc, panel = window.doc, window.wdv_tools.panel
+    areas = doc.project.wdv.areas
+    for area in areas:
+        area.cone_angle_deg = 20.0
+    areas[2].cone_angle_deg = 35.0
+    window.docks["Wrinkle vectors"].show()
+    window.docks["Wrinkle vectors"].raise_()
+    qtbot.waitUntil(panel.add_button.isVisible)
+    click_row(qtbot, panel, 2)
+    shading = window.shading_panel
+    window.docks["Shading"].show()
+    window.docks["Shading"].raise_()
+    qtbot.waitUntil(shading.cone.slider.isVisible)
+    assert shading.cone.value() == 35.0  # the current area's angle, not the first's
+    slider = shading.cone.slider
+    middle = slider.rect().center()
+    qtbot.mousePress(slider, Qt.MouseButton.LeftButton, pos=middle)  # a click on the groove
+    qtbot.mouseRelease(slider, Qt.MouseButton.LeftButton, pos=middle)
+    changed = areas[2].cone_angle_deg
+    assert changed != 35.0
+    assert [a.cone_angle_deg for a in areas[:2]] == [20.0, 20.0]  # the others keep theirs
+    window.docks["Wrinkle vectors"].raise_()
+    qtbot.waitUntil(panel.add_button.isVisible)
+    click_row(qtbot, panel, 0)
+    assert shading.cone.value() == 20.0
+    window.activateWindow()
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert areas[2].cone_angle_deg == 35.0
