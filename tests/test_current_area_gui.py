@@ -3,6 +3,7 @@ and the Shading panel's cone slider act on — kept through undo and redo (issue
 
 from __future__ import annotations
 
+import numpy as np
 from PySide6.QtCore import Qt
 
 
@@ -63,3 +64,48 @@ def test_the_cone_slider_shows_and_sets_the_current_area_only(window, qtbot):
     window.activateWindow()
     qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert areas[2].cone_angle_deg == 35.0
+
+
+def test_an_exported_animation_is_drawn_like_the_viewport(window, qtbot, tmp_path):
+    """The blend mode and the relief chosen in the Shading panel reach the exported frames
+    (the export dialog once copied only the technique and the light)."""
+    from PIL import Image
+
+    from studio.render.offscreen import OffscreenStudio
+    from studio.render.renderer import RenderSettings
+    from studio.widgets.export_dialog import ExportOptions, export_animation
+
+    shading = window.shading_panel
+    window.docks["Shading"].show()
+    window.docks["Shading"].raise_()
+    qtbot.waitUntil(shading.blend.isVisible)
+    for combo, key in ((shading.blend, "normal"), (shading.relief, "parallax")):
+        combo.setFocus()
+        while combo.currentData() != key:
+            qtbot.keyClick(combo, Qt.Key.Key_Down)
+    view = window.doc.view
+    assert (view.blend, view.relief) == ("normal", "parallax")
+    timeline = window.doc.project.timeline
+    frame = max(range(timeline.start, timeline.end + 1),  # the surprise pose at its strongest
+                key=lambda f: timeline.weights_at(f).get("surprise", 0.0))
+    folder = tmp_path / "frames"
+    assert export_animation(window, ExportOptions("frames", folder, 320, 240, "t2", frame,
+                                                  frame, 1))
+    exported = np.asarray(Image.open(folder / f"frame_{frame:04d}.png").convert("RGB"))
+
+    weights = timeline.weights_at(frame)
+    viewport = window.viewport
+    viewport.makeCurrent()  # in the viewport's context, as the export renders
+    try:
+        studio = OffscreenStudio(window.doc.project, 320, 240, ctx=viewport.ctx)
+        studio.camera = window.doc.camera
+        common = dict(technique="t2", light_dir=view.light_dir(),
+                      relief_depth=view.relief_depth)
+        expected = studio.render(RenderSettings(blend="normal", relief="parallax", **common),
+                                 weights)
+        plain = studio.render(RenderSettings(**common), weights)
+        studio.release()
+    finally:
+        viewport.doneCurrent()
+    assert np.abs(plain.astype(int) - expected).max() >= 4  # the settings do show
+    assert np.abs(exported.astype(int) - expected).max() <= 2

@@ -3,19 +3,19 @@ viewport."""
 
 from __future__ import annotations
 
-from studio.widgets.document import ViewState
+from studio.core.view_settings import ViewSettings
 
 
 def test_unknown_choices_and_wrong_types_fall_back_to_defaults():
-    view = ViewState.from_dict({"relief": "bogus", "blend": "normal", "relief_depth": 1,
+    view = ViewSettings.from_dict({"relief": "bogus", "blend": "normal", "relief_depth": 1,
                                 "wireframe": "yes", "technique": "t1",
                                 "light_azimuth": float("nan"), "future_setting": 3})
-    default = ViewState()
+    default = ViewSettings()
     assert (view.relief, view.wireframe, view.light_azimuth) == (
         default.relief, default.wireframe, default.light_azimuth)
     assert (view.blend, view.technique, view.relief_depth) == ("normal", "t1", 1.0)
 
 
 def test_saved_settings_round_trip():
-    view = ViewState(technique="strain", relief="parallax", relief_depth=0.02, split=True)
-    assert ViewState.from_dict(view.__dict__) == view
+    view = ViewSettings(technique="strain", relief="parallax", relief_depth=0.02, split=True)
+    assert ViewSettings.from_dict(view.to_dict()) == view

@@ -16,8 +16,9 @@ from studio.core.geometry import DeformCache
 from studio.core.poses import PoseBlender
 from studio.core.project import Project
 from studio.core.timeline import Timeline, sequence_all_poses
+from studio.core.view_settings import ViewSettings
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import render_settings
 
 
 @dataclass
@@ -82,7 +83,8 @@ class _Timed:
         self.timeline = sequence_all_poses([p.name for p in project.poses], fps=24.0)
         self.studio = OffscreenStudio(project, *size, samples=0, ctx=ctx)
         self.studio.renderer.split_draws = config.draw == "split"
-        self.settings = RenderSettings(technique=config.technique, relief=config.relief)
+        self.settings = render_settings(ViewSettings(technique=config.technique,
+                                                     relief=config.relief))
         self.times: list[float] = []
         self._frame = 0
 

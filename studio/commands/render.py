@@ -14,6 +14,8 @@ from studio.cli import load_project_or_sample, parse_size, parse_vertices
 from studio.core.errors import StudioError
 from studio.core.project import Project
 from studio.core.relief import suggested_relief_depth
+from studio.core.techniques import TECHNIQUES
+from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 
 
 def parse_frames(text: str) -> tuple[int, int, int]:
@@ -148,17 +150,18 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("render", help="render a project (or the bundled sample) to a PNG, or "
                                       "its animation to frames, a GIF or a video")
     p.add_argument("project", nargs="?", help="a .wrinkle project (default: the bundled sample)")
-    p.add_argument("--technique", choices=("none", "t1", "t2", "strain", "flat"), default="t2")
+    p.add_argument("--technique", choices=tuple(TECHNIQUES), default="t2",
+                   help="; ".join(f"{t.key}: {t.label}" for t in TECHNIQUES.values()))
     p.add_argument("--pose", default="neutral", help="key pose to show (default: neutral)")
     p.add_argument("--weight", type=float, default=1.0, help="weight of that pose, 0..1")
     p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (default 1280x720)")
     p.add_argument("--vertices", type=parse_vertices, help="resolution of the bundled sample")
-    p.add_argument("--view", choices=("shaded", "heat", "normals", "uv"), default="shaded",
+    p.add_argument("--view", choices=DEBUG_VIEWS, default="shaded",
                    help="debug view (heat = wrinkle visibility)")
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")
-    p.add_argument("--blend", choices=("colour", "normal"), default="colour",
+    p.add_argument("--blend", choices=BLENDS, default="colour",
                    help="mix two shaded colours (the thesis) or the two normals (light once)")
-    p.add_argument("--relief", choices=("off", "displace", "parallax"), default="off",
+    p.add_argument("--relief", choices=RELIEFS, default="off",
                    help="wrinkles in depth: displace the surface (tessellation, OpenGL 4.0; "
                         "shows in silhouette) or parallax mapping (cheaper, not in silhouette)")
     p.add_argument("--relief-depth", type=parse_depth, metavar="D",
@@ -207,13 +210,16 @@ def run_render(args: argparse.Namespace) -> int:
 
 
 def _settings(args: argparse.Namespace, project: Project):
-    from studio.render.renderer import RenderSettings
+    """The command line's view model, drawn the way the viewport draws its own."""
+    from studio.render.settings import render_settings
 
     depth = args.relief_depth
     if depth is None:
         depth = suggested_relief_depth(*project.mesh.bounds())
-    return RenderSettings(technique=args.technique, view=args.view, wireframe=args.wireframe,
-                          blend=args.blend, relief=args.relief, relief_depth=depth)
+    view = ViewSettings(technique=args.technique, debug_view=args.view,
+                        wireframe=args.wireframe, blend=args.blend, relief=args.relief,
+                        relief_depth=depth)
+    return render_settings(view)
 
 
 def _aim(studio, args: argparse.Namespace) -> None:

@@ -19,17 +19,10 @@ from studio.core.meshio import load_mesh, load_pose, not_face_vertices
 from studio.core.poses import NEUTRAL
 from studio.core.project import Project
 from studio.core.texture_sets import load_texture
-from studio.core.textures import FaceTextures, flat_normal_map
+from studio.core.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
 from studio.core.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
 
-SKIN = (205, 160, 140)
 FLAT_NORMAL = (128, 128, 255)
-
-
-def plain_diffuse(size: int = 256) -> np.ndarray:
-    image = np.empty((size, size, 3), np.uint8)
-    image[...] = SKIN
-    return image
 
 
 # Part names that are usually not skin: eyeballs, teeth, tongue, lashes... ("eyelid" is skin).

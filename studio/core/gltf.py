@@ -29,7 +29,7 @@ from studio.core.meshio import mesh_from_render_vertices
 from studio.core.png import encode_png
 from studio.core.poses import KeyPose
 from studio.core.project import Project
-from studio.core.textures import FaceTextures, flat_normal_map
+from studio.core.textures import FaceTextures, flat_normal_map, plain_diffuse
 from studio.core.timeline import Timeline
 from studio.core.uv_tiles import TileLayout, UvTiles
 from studio.core.wdv import WdvArea, WdvSetup
@@ -210,7 +210,7 @@ def load_gltf(path: str | Path) -> Project:
     pbr = material.get("pbrMetallicRoughness", {})
     extras = g.doc.get("extras", {}).get(EXTRAS_KEY, {})
     textures = FaceTextures(
-        diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), _plain_skin()),
+        diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), plain_diffuse()),
         normal_neutral=_rgb(g.texture_image(material.get("normalTexture")), flat_normal_map()),
         normal_wrinkled=_rgb(g.texture_image(material.get("extras", {}).get(
             "wrinkleNormalTexture")), flat_normal_map()))
@@ -233,12 +233,6 @@ def _mesh_with_weld(g: _Gltf, positions: Array, triangles: Array, uvs: Array,
     if not np.array_equal(positions[first][weld], positions):
         raise MeshError("vertices welded by _WELD are not at one position", g.path)
     return FaceMesh(positions[first], triangles, uvs, weld, str(g.path))
-
-
-def _plain_skin() -> Array:
-    from studio.core.assemble import plain_diffuse
-
-    return plain_diffuse()
 
 
 def _triangle_primitive(g: _Gltf) -> tuple[dict, dict]:

@@ -13,6 +13,15 @@ from studio.core.errors import ImageError
 Array = np.ndarray
 
 
+SKIN = (205, 160, 140)  # the diffuse colour of a face imported without a diffuse map
+
+
+def plain_diffuse(size: int = 256) -> Array:
+    image = np.empty((size, size, 3), np.uint8)
+    image[...] = SKIN
+    return image
+
+
 def flat_normal_map(size: int = 4) -> Array:
     img = np.empty((size, size, 3), dtype=np.uint8)
     img[...] = (128, 128, 255)

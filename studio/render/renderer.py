@@ -8,7 +8,7 @@ tangents (one interleaved buffer write) and the draw.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import moderngl
 import numpy as np
@@ -20,25 +20,21 @@ from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
 from studio.core.relief import DEFAULT_RELIEF_DEPTH, maps_digest, relief_image
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
+from studio.core.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
 from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
+from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.core.wdv import SLOTS, WdvSlots
 from studio.render.shaders import build_program
 from studio.render.triangle_split import TriangleSplit
 
-TECHNIQUES = ("flat", "none", "t1", "t2", "strain")
-VIEW_MODES = {"shaded": 0, "heat": 1, "normals": 2, "uv": 3}
+VIEW_MODES = {name: i for i, name in enumerate(DEBUG_VIEWS)}  # u_view_mode in face.frag
 
 _UNIT = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
          "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7, "relief": 8}
-BLENDS = ("colour", "normal")
 T1_MODES = ("composed", "direct")
-# wrinkles in silhouette (issue 10): off; displace = tessellate and move the surface (GL 4.0);
-# parallax = parallax occlusion mapping in the fragment shader (GL 3.3, cheaper)
-RELIEFS = ("off", "displace", "parallax")
 DISPLACE_GL = 400  # tessellation shaders: OpenGL 4.0
 TESS_PIXELS = 3.0  # displace: wanted screen length of one segment of a wrinkled edge
 TESS_MAX = 32.0  # displace: most segments per edge
-_WRINKLE_TECHNIQUES = ("t1", "t2", "strain")
 
 
 @dataclass
@@ -46,7 +42,10 @@ class RenderSettings:
     technique: str = "t2"  # flat | none | t1 | t2 | strain (automatic, from skin compression)
     view: str = "shaded"  # shaded | heat | normals | uv
     wireframe: bool = False
-    light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)  # view space, toward the light
+    # view space, toward the light; by default the view model's, so that a plain render lights
+    # the face as the viewport does
+    light_dir: tuple[float, float, float] = field(
+        default_factory=lambda: ViewSettings().light_dir())
     ambient: float = 0.1
     specular: float = 0.12
     shininess: float = 20.0
@@ -58,7 +57,7 @@ class RenderSettings:
     relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
 
     def __post_init__(self) -> None:
-        for value, allowed, what in ((self.technique, TECHNIQUES, "technique"),
+        for value, allowed, what in ((self.technique, tuple(TECHNIQUES), "technique"),
                                      (self.view, tuple(VIEW_MODES), "view"),
                                      (self.blend, BLENDS, "blend"),
                                      (self.t1_mode, T1_MODES, "technique-1 mode"),
@@ -71,11 +70,11 @@ class RenderSettings:
     @property
     def active_relief(self) -> str:
         """The relief actually drawn: only the wrinkle techniques have wrinkles to raise."""
-        return self.relief if self.technique in _WRINKLE_TECHNIQUES else "off"
+        return self.relief if self.technique in WRINKLE_TECHNIQUES else "off"
 
     def program_key(self) -> tuple[str, ...]:
         """What selects a compiled program: only options that change the shader's code."""
-        defines = [f"TECHNIQUE_{self.technique.upper()}"]
+        defines = [shader_define(self.technique)]
         if self.blend == "normal":
             defines.append("BLEND_NORMALS")
         if self.technique == "t1" and self.t1_mode == "direct":

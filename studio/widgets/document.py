@@ -8,7 +8,6 @@ redo only what that change affects — the viewport re-uploads only the touched 
 from __future__ import annotations
 
 from collections.abc import Hashable
-from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -17,52 +16,10 @@ from PySide6.QtGui import QUndoStack
 
 from studio.core.camera import OrbitCamera
 from studio.core.project import Project
-from studio.core.relief import DEFAULT_RELIEF_DEPTH, suggested_relief_depth
+from studio.core.relief import suggested_relief_depth
+from studio.core.view_settings import ViewSettings
 from studio.core.wdv import WdvArea
-from studio.render.renderer import BLENDS, RELIEFS, TECHNIQUES, VIEW_MODES
 from studio.widgets.commands import ValueCommand
-
-
-@dataclass
-class ViewState:
-    """How the project is looked at: saved with it, but not an edit (not undoable)."""
-
-    technique: str = "t2"  # none | t1 | t2
-    split: bool = False  # t1 | t2 side by side
-    debug_view: str = "shaded"  # shaded | heat | normals | uv
-    wireframe: bool = False
-    blend: str = "colour"  # colour: the thesis's mix of two shadings | normal: light once
-    relief: str = "off"  # off | displace (tessellation, OpenGL 4.0) | parallax
-    relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
-    light_azimuth: float = 30.0  # degrees, camera-relative: 0 = from the viewer, + = from the right
-    light_elevation: float = 35.0  # degrees above the view direction
-
-    def light_dir(self) -> tuple[float, float, float]:
-        az, el = np.radians(self.light_azimuth), np.radians(self.light_elevation)
-        return (float(np.sin(az) * np.cos(el)), float(np.sin(el)), float(np.cos(az) * np.cos(el)))
-
-    @classmethod
-    def from_dict(cls, data: dict) -> ViewState:
-        """Settings from a project file; a value of the wrong type or an unknown choice (a
-        damaged or newer file) falls back to the default instead of breaking the viewport."""
-        defaults = cls()
-        choices = {"technique": TECHNIQUES, "debug_view": tuple(VIEW_MODES), "blend": BLENDS,
-                   "relief": RELIEFS}
-        values = {}
-        for f in fields(cls):
-            if f.name not in data:
-                continue
-            value, default = data[f.name], getattr(defaults, f.name)
-            if isinstance(default, float) and isinstance(value, int | float) \
-                    and not isinstance(value, bool):
-                value = float(value)
-            if type(value) is not type(default) or (
-                    f.name in choices and value not in choices[f.name]):
-                continue
-            if isinstance(value, float) and not np.isfinite(value):
-                continue
-            values[f.name] = value
-        return cls(**values)
 
 
 class Document(QObject):
@@ -99,9 +56,10 @@ class Document(QObject):
         self.pose_weights: dict[str, float] = {
             k: float(v) for k, v in project.view.get("pose_weights", {}).items()
             if k in project.pose_names}
-        self.view = ViewState.from_dict(project.view.get("view", {}))
+        self.view = ViewSettings.from_dict(project.view.get("view", {}))
         if "relief_depth" not in project.view.get("view", {}):  # scaled to this face's units
-            self.view.relief_depth = suggested_relief_depth(*project.mesh.bounds())
+            self.view = self.view.with_changes(
+                relief_depth=suggested_relief_depth(*project.mesh.bounds()))
         # selected vertices (welded indices) for technique-2 authoring; changed by commands in
         # studio/widgets/wdv_edits.py, announced by selectionChanged
         self.selection = np.zeros(project.mesh.n_welded, dtype=bool)
@@ -129,7 +87,7 @@ class Document(QObject):
 
     def store_view_state(self) -> None:
         """Copy view state into the project so that it is saved with it."""
-        self.project.view["view"] = asdict(self.view)
+        self.project.view["view"] = self.view.to_dict()
         self.project.view["camera"] = self.camera.to_dict()
         self.project.view["pose_weights"] = dict(self.pose_weights)
         self.project.view["frame"] = self.frame
@@ -223,10 +181,8 @@ class Document(QObject):
 
     # --- view state (saved, not undoable) ------------------------------------------------------
     def set_view(self, **changes) -> None:
-        for key, value in changes.items():
-            if not hasattr(self.view, key):
-                raise AttributeError(key)
-            setattr(self.view, key, value)
+        """Change view settings (the view model is immutable: a new one replaces it)."""
+        self.view = self.view.with_changes(**changes)
         self.viewChanged.emit()
 
     def frame_all(self) -> None:

@@ -28,13 +28,14 @@ from PySide6.QtWidgets import (
 
 from studio.commands.render import AnimationWriter, animation_weights, video_available
 from studio.core.errors import StudioError
+from studio.core.techniques import TECHNIQUE_LIST
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import render_settings
 from studio.widgets.dialog_buttons import action_buttons
 
 FORMATS = {"frames": "PNG frames (a folder)", "gif": "Animated GIF", "video": "MP4 video"}
-TECHNIQUES = {"t2": "Technique 2 (WDV)", "t1": "Technique 1 (influence areas)",
-              "none": "No wrinkles"}
+# the authored techniques and none: what an artist exports (the automatic one is a preview)
+EXPORT_TECHNIQUES = [t for t in TECHNIQUE_LIST if t.authored or t.key == "none"]
 
 
 @dataclass
@@ -87,8 +88,8 @@ class ExportDialog(QDialog):
         size.addWidget(self.height_)
         form.addRow("Size (W × H)", size)
         self.technique = QComboBox()
-        for technique, text in TECHNIQUES.items():
-            self.technique.addItem(text, technique)
+        for technique in EXPORT_TECHNIQUES:
+            self.technique.addItem(technique.label, technique.key)
         index = self.technique.findData(doc.view.technique)
         self.technique.setCurrentIndex(max(index, 0))
         form.addRow("Wrinkles", self.technique)
@@ -162,7 +163,9 @@ def export_animation(window, options: ExportOptions) -> bool:
                              (options.width, options.height))
     if viewport.ctx is None:
         raise StudioError("the viewport has no OpenGL context to render with")
-    settings = RenderSettings(technique=options.technique, light_dir=doc.view.light_dir())
+    # everything the viewport shows (blend, relief, light, debug view), with the chosen technique
+    # (a relief this context cannot draw was already turned into parallax by the viewport)
+    settings = render_settings(doc.view, technique=options.technique)
     progress = QProgressDialog("Rendering the animation…", "Cancel", 0, len(frames), window)
     progress.setWindowTitle("Export Animation")
     progress.setWindowModality(Qt.WindowModality.WindowModal)

@@ -30,7 +30,7 @@ from studio.widgets.pose_panel import PosePanel
 from studio.widgets.shading_panel import ShadingPanel
 from studio.widgets.timeline_tools import install_timeline_tools
 from studio.widgets.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
-from studio.widgets.wdv_tools import install_wdv_tools
+from studio.widgets.wdv_panel import install_wdv_tools
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10

@@ -11,7 +11,7 @@ passes over the projected vertices, computed once when the gesture starts.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from PySide6.QtCore import QPointF, Qt
@@ -23,8 +23,10 @@ from studio.widgets.commands import new_gesture
 from studio.widgets.wdv_edits import set_cone_angles, set_selection
 
 if TYPE_CHECKING:
+    from studio.core.wdv import WdvArea
+    from studio.render.wdv_overlay import WdvOverlay
+    from studio.widgets.document import Document
     from studio.widgets.viewport import Viewport
-    from studio.widgets.wdv_tools import WdvTools
 
 MODES = ("click", "box", "lasso", "brush", "cone")
 BRUSHES = ("brush", "cone")  # modes that paint under a circle while dragging
@@ -40,10 +42,27 @@ def gesture_mode(modifiers: Qt.KeyboardModifier, brush: bool = False) -> str:
     return sel.REPLACE
 
 
+class SelectionHost(Protocol):
+    """What the tool needs from its owner (``WdvTools``): the document, the overlay it draws
+    the brush on, the current area and options, and picking against the posed face."""
+
+    doc: Document
+    overlay: WdvOverlay
+    select_through: bool
+    cone_paint_value: float
+
+    @property
+    def current_area(self) -> WdvArea | None: ...
+
+    def screen_view(self) -> sel.ScreenView: ...
+
+    def pick(self, x: float, y: float) -> int | None: ...
+
+
 class SelectTool:
     """press / move / release from the viewport; reads and writes only through the document."""
 
-    def __init__(self, tools: WdvTools) -> None:
+    def __init__(self, tools: SelectionHost) -> None:
         self.tools = tools
         self.mode = "box"
         self.brush_radius = 30.0  # pixels

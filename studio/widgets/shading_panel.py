@@ -6,12 +6,13 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox, QVBoxLayout, QWidget
 
+from studio.core.techniques import TECHNIQUE_LIST
 from studio.widgets.document import Document
 from studio.widgets.slider_row import SliderRow
 
-TECHNIQUES = [("Technique 2 (wrinkle vectors)", "t2"), ("Technique 1 (influence areas)", "t1"),
-              ("Automatic (skin compression)", "strain"), ("No wrinkles", "none"),
-              ("Split: t1 | t2 | automatic", "split")]
+# every technique of the registry but flat shading (a benchmark baseline), then the split view
+TECHNIQUE_CHOICES = [*((t.label, t.key) for t in TECHNIQUE_LIST if t.key != "flat"),
+                     ("Split: t1 | t2 | automatic", "split")]
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Wrinkle visibility (heat map)", "heat"),
                ("Normals", "normals"), ("UV checker", "uv")]
 RELIEF_RANGE = 0.05  # the relief depth slider's end, as a fraction of the face's size
@@ -27,7 +28,7 @@ class ShadingPanel(QWidget):
         view_box = QGroupBox("Display")
         form = QFormLayout(view_box)
         self.technique = QComboBox()
-        for text, key in TECHNIQUES:
+        for text, key in TECHNIQUE_CHOICES:
             self.technique.addItem(text, key)
         self.technique.setObjectName("technique")
         self.technique.activated.connect(self._technique_chosen)

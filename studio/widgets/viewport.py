@@ -19,14 +19,12 @@ from PySide6.QtOpenGLWidgets import QOpenGLWidget
 from PySide6.QtWidgets import QLabel, QWidget
 
 from studio.core.errors import RenderError
-from studio.render.renderer import FaceRenderer, RenderSettings
+from studio.core.techniques import SPLIT, TECHNIQUES
+from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
+from studio.render.settings import render_settings
 from studio.widgets.document import Document
 
-TECHNIQUE_LABELS = {"none": "No wrinkles", "t1": "Technique 1 · influence areas",
-                    "t2": "Technique 2 · wrinkle direction vectors",
-                    "strain": "Automatic · skin compression"}
-SPLIT = ("t1", "t2", "strain")  # the split view's panes, left to right
 ANTI_ALIASING = (0, 2, 4, 8)  # samples per pixel offered (View ▸ Anti-Aliasing); 0: off
 DEFAULT_SAMPLES = 4
 
@@ -164,17 +162,14 @@ class Viewport(QOpenGLWidget):
         w, h = round(self.width() * ratio), round(self.height() * ratio)
         fbo = self._draw_target(w, h)
         view = self.doc.view
-        base = dict(view=view.debug_view, wireframe=view.wireframe, light_dir=view.light_dir(),
-                    blend=view.blend, relief=self._relief(view.relief),
-                    relief_depth=view.relief_depth)
+        relief = self._relief(view.relief)
         if view.split:
             for (x, width), technique in zip(split_columns(w), SPLIT, strict=True):
                 self.renderer.render(fbo, self.doc.camera,
-                                     RenderSettings(technique=technique, **base),
+                                     render_settings(view, technique=technique, relief=relief),
                                      viewport=(x, 0, width, h))
         else:
-            self.renderer.render(fbo, self.doc.camera,
-                                 RenderSettings(technique=view.technique, **base),
+            self.renderer.render(fbo, self.doc.camera, render_settings(view, relief=relief),
                                  viewport=(0, 0, w, h))
         for overlay in self.overlays:
             overlay.draw(self.ctx, fbo, self.doc.camera, (0, 0, w, h))
@@ -239,13 +234,13 @@ class Viewport(QOpenGLWidget):
         if view.split:
             for label, (x, _), technique in zip(self._labels, split_columns(self.width()), SPLIT,
                                                 strict=True):
-                label.setText(TECHNIQUE_LABELS[technique])
+                label.setText(TECHNIQUES[technique].short)
                 label.adjustSize()
                 label.move(x + 8, 8)
                 label.show()
         else:
             first, *rest = self._labels
-            first.setText(TECHNIQUE_LABELS[view.technique])
+            first.setText(TECHNIQUES[view.technique].short)
             first.adjustSize()
             first.move(8, 8)
             first.show()

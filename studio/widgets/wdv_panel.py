@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtGui import QColor, QIcon, QPixmap
+from PySide6.QtGui import QAction, QColor, QIcon, QKeySequence, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QButtonGroup,
@@ -496,3 +496,29 @@ class WdvPanel(QScrollArea):
     def _show_vectors(self, on: bool) -> None:
         self.tools.overlay.show_vectors = on
         self.tools.viewport.update()
+
+
+def install_wdv_tools(window) -> WdvTools:
+    """Create the "Wrinkle vectors" dock, the select tool's toolbar action (S) and the overlay."""
+    tools = WdvTools(window.doc, window.viewport)
+    panel = WdvPanel(window.doc, tools)
+    window._add_dock("Wrinkle vectors", panel, Qt.DockWidgetArea.RightDockWidgetArea)
+    action = QAction("Select vertices", window)
+    action.setCheckable(True)
+    action.setShortcut(QKeySequence("S"))
+    action.setToolTip("Select vertices for wrinkle direction vectors (S)\n"
+                      "Click, drag a box / lasso, or paint; Shift adds, Ctrl removes")
+
+    def toggled(on: bool) -> None:
+        window.viewport.set_tool(tools.tool if on else None)
+        panel.tool_active(on)
+
+    action.toggled.connect(toggled)
+    window.tools.addAction(action)
+    window.viewport.overlays.append(tools.overlay)
+    tools.select_action = action
+    tools.panel = panel
+    tools.timing.connect(lambda what, ms: window.statusBar().showMessage(
+        f"{what}: {ms:.1f} ms", 2000))
+    window.wdv_tools = tools
+    return tools

@@ -1,5 +1,6 @@
 """Technique-2 authoring in the window: the dock, the select tool and the overlay, wired to the
-document. ``install_wdv_tools(window)`` is the one call the main window makes.
+document. ``studio.widgets.wdv_panel.install_wdv_tools(window)`` is the one call the main
+window makes.
 
 ``WdvTools`` holds only view state (the current area, tool options) and caches derived from the
 document (posed positions, normals, edges, the mirror map), refreshed when its signals say so.
@@ -10,8 +11,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from PySide6.QtCore import QObject, Qt, Signal
-from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtCore import QObject, Signal
 
 from studio.core import selection as sel
 from studio.core.geometry import vertex_normals
@@ -162,31 +162,3 @@ class WdvTools(QObject):
         origin, direction = cam.ray(x, y, w, h)
         return pick_vertex(self.posed(), self.doc.project.mesh.welded_triangles, origin,
                            direction)
-
-
-def install_wdv_tools(window) -> WdvTools:
-    """Create the "Wrinkle vectors" dock, the select tool's toolbar action (S) and the overlay."""
-    from studio.widgets.wdv_panel import WdvPanel
-
-    tools = WdvTools(window.doc, window.viewport)
-    panel = WdvPanel(window.doc, tools)
-    window._add_dock("Wrinkle vectors", panel, Qt.DockWidgetArea.RightDockWidgetArea)
-    action = QAction("Select vertices", window)
-    action.setCheckable(True)
-    action.setShortcut(QKeySequence("S"))
-    action.setToolTip("Select vertices for wrinkle direction vectors (S)\n"
-                      "Click, drag a box / lasso, or paint; Shift adds, Ctrl removes")
-
-    def toggled(on: bool) -> None:
-        window.viewport.set_tool(tools.tool if on else None)
-        panel.tool_active(on)
-
-    action.toggled.connect(toggled)
-    window.tools.addAction(action)
-    window.viewport.overlays.append(tools.overlay)
-    tools.select_action = action
-    tools.panel = panel
-    tools.timing.connect(lambda what, ms: window.statusBar().showMessage(
-        f"{what}: {ms:.1f} ms", 2000))
-    window.wdv_tools = tools
-    return tools
