@@ -48,6 +48,7 @@ from PySide6.QtWidgets import QMessageBox
 from studio.core import project_file as project_io
 from studio.core.errors import StudioError
 from studio.core.project import Project
+from studio.widgets.app_settings import settings
 
 try:  # advisory locks: POSIX only
     import fcntl
@@ -444,7 +445,6 @@ def _write_json(path: Path, data: dict[str, Any]) -> None:
 
 
 def _interval_minutes() -> float:
-    from studio.widgets.main_window import settings
 
     try:
         return float(settings().value(INTERVAL_KEY, DEFAULT_MINUTES))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QSettings, Qt, QTimer, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -20,6 +20,7 @@ from PySide6.QtWidgets import (
 from studio import __version__
 from studio.core.errors import StudioError
 from studio.core.project import Project
+from studio.widgets.app_settings import settings
 from studio.widgets.auto_tools import install_auto_tools
 from studio.widgets.autosave import install_autosave
 from studio.widgets.bake_tools import install_bake_tools
@@ -34,10 +35,6 @@ from studio.widgets.wdv_panel import install_wdv_tools
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
-
-
-def settings() -> QSettings:
-    return QSettings("WrinkleStudio", "Wrinkle Studio")
 
 
 def sample_project() -> Project:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from PySide6.QtCore import QSignalBlocker, Qt
 from PySide6.QtGui import QAction, QKeySequence
 
+from studio.widgets.app_settings import settings
 from studio.widgets.areas_panel import AreasPanel, PaintState
 from studio.widgets.paint_tool import FacePaintTool
 from studio.widgets.uv_canvas import UvCanvas
@@ -45,7 +46,6 @@ class MaskTools:
 
     def _remember_brush(self) -> None:
         """The brush (size, softness, flow, mirror mode) as the user last left it, and kept so."""
-        from studio.widgets.main_window import settings  # (the window imports this module)
 
         self.state.restore(settings())
         self.state.changed.connect(lambda: self.state.save(settings()))

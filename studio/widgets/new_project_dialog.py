@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QSettings, Qt
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
     QButtonGroup,
     QCheckBox,
@@ -37,6 +37,7 @@ from studio.core.errors import StudioError
 from studio.core.meshio import ObjGroup, obj_groups
 from studio.core.normalmap import flip_green
 from studio.core.project import Project
+from studio.widgets.app_settings import settings
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.progress import progress_dialog
 
@@ -190,8 +191,8 @@ class NewProjectDialog(QDialog):
         self.directx = QCheckBox("Normal maps use the DirectX convention (flip green)")
         self.auto = QCheckBox("Auto set-up from the key poses (wrinkle vectors, masks, and a "
                               "wrinkled map when none is given)")
-        self.auto.setChecked(QSettings().value("new_project/auto", True, type=bool))
-        self.auto.toggled.connect(lambda on: QSettings().setValue("new_project/auto", on))
+        self.auto.setChecked(settings().value("new_project/auto", True, type=bool))
+        self.auto.toggled.connect(lambda on: settings().setValue("new_project/auto", on))
         self.report: list[str] = []  # what the auto set-up did, a line each
         self.poses = QTableWidget(0, 2)
         self.poses.setHorizontalHeaderLabels(["Key pose", "Mesh file"])

@@ -19,6 +19,8 @@ import numpy as np
 from PySide6.QtCore import QObject, Slot
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
+from studio.widgets.app_settings import settings
+
 BUDGET_KEY = "undo/budget_mb"
 DEFAULT_BUDGET_MB = 512.0
 SMALL_COMMAND_BYTES = 1024
@@ -147,7 +149,6 @@ def _drop(command: QUndoCommand) -> None:
 
 
 def _budget_bytes() -> int:
-    from studio.widgets.main_window import settings
 
     try:
         megabytes = float(settings().value(BUDGET_KEY, DEFAULT_BUDGET_MB))
