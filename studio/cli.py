@@ -11,9 +11,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from studio.commands.options import EXIT_USAGE
 from studio.core.errors import StudioError
-
-EXIT_USAGE = 2
 
 
 class _Parser(argparse.ArgumentParser):
@@ -21,39 +20,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    try:
-        w, h = (int(part) for part in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a size like 1280x720") from None
-    if not (1 <= w <= 16384 and 1 <= h <= 16384):
-        raise argparse.ArgumentTypeError(f"'{text}': width and height must be 1 to 16384")
-    return w, h
-
-
-def parse_vertices(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
-    if not 100 <= n <= 200_000:
-        raise argparse.ArgumentTypeError(f"{n}: the sample face takes 100 to 200000 vertices")
-    return n
-
-
-def load_project_or_sample(path: str | None, vertices: int | None):
-    """The project at ``path``, or the bundled sample face at the requested resolution."""
-    if path is None:
-        from studio.core.sample import make_sample
-
-        return make_sample(vertices) if vertices else make_sample()
-    from studio.core.project_file import load_project
-
-    if vertices:
-        raise StudioError("--vertices applies to the bundled sample, not to a project file")
-    return load_project(Path(path))
 
 
 # Each command lives in studio/commands/<name>.py with ``add_parser(subparsers)`` that sets

@@ -7,7 +7,7 @@ import platform
 from itertools import groupby
 from pathlib import Path
 
-from studio.cli import parse_size
+from studio.commands.options import parse_size
 from studio.core.errors import StudioError
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from studio.cli import parse_vertices
+from studio.commands.options import parse_vertices
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

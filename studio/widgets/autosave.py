@@ -39,7 +39,7 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from PySide6.QtCore import QEvent, QObject, QStandardPaths, Qt, QTimer, Signal
@@ -56,7 +56,23 @@ except ImportError:  # pragma: no cover - Windows
     fcntl = None  # type: ignore[assignment]
 
 if TYPE_CHECKING:
-    from studio.widgets.main_window import MainWindow
+    from PySide6.QtWidgets import QStatusBar
+
+    from studio.widgets.document import Document
+
+
+class MainWindow(Protocol):
+    """What autosave needs of the studio window (``studio.widgets.main_window.MainWindow``,
+    which installs it — hence not imported here)."""
+
+    doc: Document
+    autosaver: Autosaver
+
+    def show_error(self, title: str, error: Exception) -> None: ...
+
+    def statusBar(self) -> QStatusBar: ...
+
+    def show(self) -> None: ...
 
 
 INTERVAL_KEY = "autosave/interval_minutes"

@@ -26,9 +26,9 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from studio.commands.render import AnimationWriter, animation_weights, video_available
 from studio.core.errors import StudioError
 from studio.core.techniques import TECHNIQUE_LIST
+from studio.render.animation import AnimationWriter, animation_weights, video_available
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import render_settings
 from studio.widgets.dialog_buttons import action_buttons
