@@ -97,11 +97,15 @@ def _skin_motion(name: str, x: Array, y: Array) -> tuple[Array, Array]:
     return move, bulge
 
 
+CHIN_DROP = 0.25  # sample units from the mouth down to the chin
+
+
 def _jaw_open(rest_sample: Array, y: Array) -> Array:
-    """Everything below the mouth moves down in proportion to its depth below it: a pure
-    vertical stretch (an affine scale > 1), which compresses nothing."""
+    """The skin from the mouth down to the chin moves down in proportion to its depth below the
+    mouth (a vertical stretch, an affine scale > 1, which compresses nothing); below the chin
+    everything is carried down with it, undeformed."""
     out = rest_sample.copy()
-    out[:, 1] -= 0.12 * np.maximum(MOUTH_Y - y, 0.0)
+    out[:, 1] -= 0.12 * np.clip(MOUTH_Y - y, 0.0, CHIN_DROP)
     return out
 
 

@@ -147,8 +147,8 @@ def test_anti_aliasing_off_hardens_only_the_edges_and_is_remembered(window, open
         # edges: where the hard image itself jumps between neighbouring pixels
         grey = hard.astype(int).sum(axis=2)
         jump = np.zeros_like(changed)
-        jump[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 60
-        jump[1:] |= np.abs(np.diff(grey, axis=0)) > 60
+        jump[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 40
+        jump[1:] |= np.abs(np.diff(grey, axis=0)) > 40
         near_jump = jump.copy()
         near_jump[:, :-1] |= jump[:, 1:]
         near_jump[:-1] |= jump[1:]

@@ -196,3 +196,41 @@ def test_a_gltf_with_udim_coordinates_is_packed_the_same_way(imported):
     own = project_from_files(folder / "own.glb")
     assert own.uv_tiles.layout == tiles.layout
     assert np.array_equal(own.uv_tiles.vertex_tile, tiles.vertex_tile)
+
+
+def region_pixel(head: ProductionHead, project: Project, camera, size: int,
+                 point: tuple[float, float]) -> tuple[int, int]:
+    """Where a point of the face (sample face coordinates) lands in a render."""
+    face = head.to_sample(project.mesh.rest)
+    candidates = np.flatnonzero(face[:, 2] > 0.2)
+    nearest = candidates[np.argmin(np.hypot(*(face[candidates, :2] - point).T))]
+    pixels, _ = camera.project(project.mesh.rest[nearest][None], size, size)
+    x, y = pixels[0]
+    return int(np.rint(x)), int(np.rint(y))
+
+
+def test_a_default_render_shows_every_compressing_pose_in_its_region(imported):
+    """800 × 800, the default camera, each compressing pose at full weight: technique 1 and
+    technique 2 change the shading of at least 1 % of the face's pixels around the pose's
+    region (the issue measured 0.000 % before), and leave a far region untouched."""
+    from studio.render.offscreen import OffscreenStudio
+    from studio.render.renderer import RenderSettings
+
+    head, project, _, _ = imported
+    size, radius = 800, 40
+    with OffscreenStudio(project, size, size) as studio:
+        background = studio.render(RenderSettings(technique="none"), {})[0, 0].astype(int)
+        for pose in COMPRESSING:
+            plain = studio.render(RenderSettings(technique="none"), {pose: 1.0}).astype(int)
+            face = np.abs(plain - background).max(-1) > 8
+            x, y = region_pixel(head, project, studio.camera, size, REGIONS[pose])
+            far = (0.0, -0.75) if REGIONS[pose][1] > -0.1 else (0.0, 0.55)  # chin or forehead
+            fx, fy = region_pixel(head, project, studio.camera, size, far)
+            for technique in ("t1", "t2"):
+                image = studio.render(RenderSettings(technique=technique), {pose: 1.0})
+                changed = np.abs(image.astype(int) - plain).max(-1) > 4
+                near = (slice(y - radius, y + radius), slice(x - radius, x + radius))
+                share = changed[near][face[near]].mean()
+                assert share >= 0.01, (pose, technique, share)
+                away = (slice(fy - radius, fy + radius), slice(fx - radius, fx + radius))
+                assert not changed[away].any(), (pose, technique, "far region changed")

@@ -32,6 +32,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--not-face", action="extend", nargs="+", default=[], metavar="GROUP",
                    help="OBJ objects, groups or materials that are not skin (eyes, teeth): "
                         "never wrinkled")
+    p.add_argument("--up", metavar="AXIS",
+                   help="the head's up axis (x, y, z, -x, -y, -z); by default found from the "
+                        "poses' motion or the mesh's extent, and said")
     p.add_argument("--flip-green", action="store_true",
                    help="the normal maps use the DirectX convention (green down)")
     p.add_argument("--auto", action="store_true",
@@ -44,9 +47,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from studio.core.assemble import project_from_files
+    from studio.core.face_frame import face_frame, face_locator, parse_axis
     from studio.core.normalmap import flip_green
     from studio.core.project_file import save_project
 
+    if args.up is not None:
+        parse_axis(args.up)  # a bad axis fails before any work
     names = [name for name, _ in args.pose]
     if len(set(names)) != len(names):
         raise StudioError("two --pose options have the same name")
@@ -56,15 +62,22 @@ def run(args: argparse.Namespace) -> int:
     if args.flip_green:
         project.textures.normal_neutral = flip_green(project.textures.normal_neutral)
         project.textures.normal_wrinkled = flip_green(project.textures.normal_wrinkled)
+    if args.up is not None:
+        project.view["up"] = args.up
+    frame = face_frame(project)
     done = []
     if args.auto:
         from studio.core.auto_setup import auto_start
 
-        done = auto_start(project)
+        done = auto_start(project, locate=face_locator(frame))
     out = Path(args.output)
     save_project(project, out)
     print(f"wrote {out}: {project.mesh.n_welded} vertices, key poses: "
           f"{', '.join(p.name for p in project.poses) or 'none'}")
+    print(f"assumed: {frame.how}")
+    if project.uv_tiles is not None:
+        print(f"UV tiles {', '.join(map(str, project.uv_tiles.layout.tiles))} packed into one "
+              f"atlas (skin on {', '.join(map(str, project.skin_tiles()))})")
     if project.not_face is not None:
         print(f"not face ({', '.join(args.not_face)}): {int(project.not_face.sum())} vertices")
     for line in done:

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from studio.commands.options import load_project_or_sample, parse_size, parse_vertices
 from studio.core.errors import StudioError
+from studio.core.face_frame import aim, parse_axis
 from studio.core.project import Project
 from studio.core.relief import suggested_relief_depth
 from studio.core.techniques import TECHNIQUES
@@ -74,6 +75,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--relief-depth", type=parse_depth, metavar="D",
                    help="depth of the deepest wrinkle in model units (default: 1.4%% of the "
                         "face's size, 0.03 for the sample face)")
+    p.add_argument("--frame", choices=("face", "all"),
+                   help="frame the face (the skin the poses deform) or the whole mesh, seen "
+                        "from the face's front (default: the project's saved camera, else face)")
+    p.add_argument("--up", type=parse_up, metavar="AXIS",
+                   help="the head's up axis (x, y, z, -x, -y, -z) when the detected one is "
+                        "wrong")
     p.add_argument("--yaw", type=float, help="camera yaw in degrees (0 = front, 90 = profile)")
     p.add_argument("--pitch", type=float, help="camera pitch in degrees")
     p.add_argument("--frames", type=parse_frames, metavar="START:END[:STEP]",
@@ -102,7 +109,7 @@ def run_render(args: argparse.Namespace) -> int:
     project = load_project_or_sample(args.project, args.vertices)
     weights = project.single_pose_weights(args.pose, args.weight)
     with OffscreenStudio(project, *args.size) as studio:
-        _aim(studio, args)
+        _aim(studio, args, project)
         image = studio.render(_settings(args, project), weights)
     out = Path(args.output)
     try:
@@ -129,7 +136,21 @@ def _settings(args: argparse.Namespace, project: Project):
     return render_settings(view)
 
 
-def _aim(studio, args: argparse.Namespace) -> None:
+def parse_up(text: str) -> str:
+    try:
+        parse_axis(text)
+    except StudioError as exc:
+        raise argparse.ArgumentTypeError(exc.problem) from None
+    return text
+
+
+def _aim(studio, args: argparse.Namespace, project: Project) -> None:
+    """The camera the options ask for: re-aimed at the face or the whole mesh when --frame or
+    --up is given (else the project's own), then turned by --yaw and --pitch."""
+    if args.up is not None:
+        project.view["up"] = args.up
+    if args.frame is not None or args.up is not None:
+        aim(studio.camera, project, args.frame or "face")
     if args.yaw is not None:
         studio.camera.yaw = args.yaw
     if args.pitch is not None:
@@ -156,7 +177,7 @@ def run_animation(args: argparse.Namespace,
     animation_weights(project, frames[:1])  # no keys: say so before opening a context
     writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size)
     with OffscreenStudio(project, *args.size) as studio:
-        _aim(studio, args)
+        _aim(studio, args, project)
         for i, (frame, image) in enumerate(zip(frames, render_frames(
                 studio, _settings(args, project), project, frames), strict=True)):
             writer.add(frame, image)

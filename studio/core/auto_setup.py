@@ -81,7 +81,7 @@ class AutoSetupReport:
         lines = []
         for pose, strain in self.strains.items():
             if strain.compresses:
-                where = f" around the {self.regions[pose]}" if pose in self.regions else ""
+                where = f" ({self.regions[pose]})" if pose in self.regions else ""
                 lines.append(f"{pose}: compresses {100 * strain.compressed_share:.1f} % of the "
                              f"skin{where}, peak {100 * strain.peak_compression:.0f} %")
             else:

@@ -1,7 +1,9 @@
 """Orbit camera: framing, matrices, projection of points and picking rays (numpy only).
 
-The camera orbits a target; yaw 0 and pitch 0 look at the face from the front (+Z toward −Z),
-with +Y up. Matrices are row-major numpy arrays (transpose before sending to GLSL).
+The camera orbits a target; yaw 0 and pitch 0 look at the face from its front, with its up on
+screen. The face's axes are the ``basis`` (columns: the character's left, up, front in model
+space; the identity for a Y-up face looking toward +Z, like the bundled sample), so a Z-up head
+facing −Y orbits the same way. Matrices are row-major numpy arrays (transpose for GLSL).
 """
 
 from __future__ import annotations
@@ -45,31 +47,43 @@ class OrbitCamera:
     pitch: float = 5.0  # degrees, positive looks from above
     fov_y: float = 30.0
     radius: float = 1.0  # size of what is framed; sets the clipping planes
+    basis: Array = field(default_factory=lambda: np.eye(3))  # the face's left, up, front
+
+    @property
+    def up(self) -> Array:
+        return self.basis[:, 1]
 
     def frame(self, lo: Array, hi: Array, margin: float = 1.1) -> None:
         """Centre on a bounding box and back off until its corners fit a square view, seen
         from the current direction (so any model size or position frames well)."""
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        self.frame_points(np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                                    for z in (lo[2], hi[2])]), margin)
+
+    def frame_points(self, points: Array, margin: float = 1.1) -> None:
+        """Centre on points (a box's corners) and back off until they fit a square view."""
+        points = np.asarray(points, float)
+        lo, hi = points.min(axis=0), points.max(axis=0)
         self.target = (lo + hi) / 2.0
         self.radius = max(float(np.linalg.norm(hi - lo)) / 2.0, 1e-6)
-        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                            for z in (lo[2], hi[2])]) - self.target
-        view = look_at(self.direction(), np.zeros(3), np.array([0.0, 1.0, 0.0]))
+        corners = points - self.target
+        view = look_at(self.direction(), np.zeros(3), self.up)
         right, up, toward = corners @ view[0, :3], corners @ view[1, :3], -(corners @ view[2, :3])
         tan_half = math.tan(math.radians(self.fov_y) / 2.0)
         needed = np.maximum(np.abs(right), np.abs(up)) * margin / tan_half - toward
         self.distance = max(float(needed.max()), self.radius * 0.1)
 
     def direction(self) -> Array:
-        """Unit vector from the target toward the eye."""
+        """Unit vector from the target toward the eye (yaw and pitch in the face's axes)."""
         y, p = math.radians(self.yaw), math.radians(self.pitch)
-        return np.array([math.sin(y) * math.cos(p), math.sin(p), math.cos(y) * math.cos(p)])
+        local = np.array([math.sin(y) * math.cos(p), math.sin(p), math.cos(y) * math.cos(p)])
+        return self.basis @ local
 
     def eye(self) -> Array:
         return self.target + self.distance * self.direction()
 
     def view_matrix(self) -> Array:
-        return look_at(self.eye(), self.target, np.array([0.0, 1.0, 0.0]))
+        return look_at(self.eye(), self.target, self.up)
 
     def clip_planes(self) -> tuple[float, float]:
         near = max(self.distance - 2.0 * self.radius, self.distance * 0.01, 1e-4)
@@ -119,7 +133,8 @@ class OrbitCamera:
 
     def to_dict(self) -> dict:
         return {"target": [float(v) for v in self.target], "distance": self.distance,
-                "yaw": self.yaw, "pitch": self.pitch, "fov_y": self.fov_y, "radius": self.radius}
+                "yaw": self.yaw, "pitch": self.pitch, "fov_y": self.fov_y, "radius": self.radius,
+                "basis": [[float(v) for v in row] for row in self.basis]}
 
     @classmethod
     def from_dict(cls, data: dict) -> OrbitCamera:
@@ -128,4 +143,9 @@ class OrbitCamera:
         for key in ("distance", "yaw", "pitch", "fov_y", "radius"):
             if key in data:
                 setattr(cam, key, float(data[key]))
+        if "basis" in data:  # a rotation, else (damaged) the default axes
+            basis = np.asarray(data["basis"], float)
+            if basis.shape == (3, 3) and np.isfinite(basis).all() and np.allclose(
+                    basis.T @ basis, np.eye(3), atol=1e-4):
+                cam.basis = basis
         return cam

@@ -14,7 +14,7 @@ Array = np.ndarray
 
 _SIDED = {  # name: (|x|, y) on the character's left; mirrored for the right
     "brow": (0.45, 0.42),
-    "eye corner": (0.85, 0.2),
+    "eye corner": (0.72, 0.22),
     "lower eyelid": (0.45, 0.05),
     "cheek": (0.62, -0.3),
     "nasolabial fold": (0.33, -0.42),

@@ -9,6 +9,7 @@ import numpy as np
 
 from studio.core.camera import OrbitCamera
 from studio.core.errors import RenderError
+from studio.core.face_frame import aim
 from studio.core.project import Project
 from studio.render.renderer import FaceRenderer, RenderSettings
 from studio.render.scene import ProjectScene
@@ -53,10 +54,12 @@ class OffscreenTarget:
         self.resolved.release()
 
 
-def default_camera(project: Project) -> OrbitCamera:
+def default_camera(project: Project, frame: str = "face") -> OrbitCamera:
+    """The project's saved camera, else one looking at the face from its front and framing
+    the face (``frame="face"``) or the whole mesh (``"all"``), whatever the head's axes."""
     camera = OrbitCamera.from_dict(project.view.get("camera", {}))
     if "camera" not in project.view:
-        camera.frame(*project.mesh.bounds())
+        aim(camera, project, frame)
     return camera
 
 

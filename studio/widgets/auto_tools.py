@@ -34,6 +34,7 @@ from PySide6.QtWidgets import (
 
 from studio.core import auto_setup
 from studio.core.errors import StudioError
+from studio.core.face_frame import face_locator
 from studio.core.naming import unique_name
 from studio.core.textures import MAX_WRINKLE_MAPS
 from studio.core.wrinkle_synth import (
@@ -193,7 +194,8 @@ class AutoTools:
         progress, step = progress_dialog(self.window, "Auto Setup",
                                          "Measuring how each key pose moves the skin…")
         try:
-            report = auto_setup.suggest_setup(project, progress=step)
+            report = auto_setup.suggest_setup(
+                project, progress=step, locate=face_locator(self.doc.face_frame()))
         except StudioError as exc:
             self.window.show_error("Cannot set up from the poses", exc)
             return None

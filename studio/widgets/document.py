@@ -15,6 +15,7 @@ from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoStack
 
 from studio.core.camera import OrbitCamera
+from studio.core.face_frame import FaceFrame, aim, face_frame
 from studio.core.project import Project
 from studio.core.relief import suggested_relief_depth
 from studio.core.view_settings import ViewSettings
@@ -46,6 +47,7 @@ class Document(QObject):
         super().__init__(parent)
         self.undo_stack = QUndoStack(self)
         self.undo_stack.cleanChanged.connect(lambda clean: self.modifiedChanged.emit(not clean))
+        self.posesChanged.connect(lambda: setattr(self, "_face", None))  # new poses, new face
         self._load(project, path)
 
     # --- the whole project ---------------------------------------------------------------------
@@ -64,9 +66,10 @@ class Document(QObject):
         # studio/widgets/wdv_edits.py, announced by selectionChanged
         self.selection = np.zeros(project.mesh.n_welded, dtype=bool)
         self.frame = float(project.view.get("frame", project.timeline.start))  # the playhead
+        self._face: FaceFrame | None = None  # found when first asked for
         self.camera = OrbitCamera.from_dict(project.view.get("camera", {}))
         if "camera" not in project.view:
-            self.frame_all()
+            self.frame_face()
 
     def replace_project(self, project: Project, path: Path | None) -> None:
         """Open another project: a fresh undo history, every view refreshed."""
@@ -185,6 +188,18 @@ class Document(QObject):
         self.view = self.view.with_changes(**changes)
         self.viewChanged.emit()
 
+    def face_frame(self) -> FaceFrame:
+        """Where the face is and which way is up and front (found once per set of poses)."""
+        if self._face is None:
+            self._face = face_frame(self.project)
+        return self._face
+
+    def frame_face(self) -> None:
+        """View ▸ Frame Face: the face from its front-facing side, filling the view."""
+        aim(self.camera, self.project, "face", self.face_frame())
+        self.cameraChanged.emit()
+
     def frame_all(self) -> None:
-        self.camera.frame(*self.project.mesh.bounds())
+        """View ▸ Frame All: the whole mesh (neck, shoulders, eyes…), turned to the face's axes."""
+        aim(self.camera, self.project, "all", self.face_frame())
         self.cameraChanged.emit()

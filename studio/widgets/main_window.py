@@ -161,9 +161,15 @@ class MainWindow(QMainWindow):
         self.docks["History"].toggleViewAction().setText("Undo &History")
 
         view = bar.addMenu("&View")
-        frame = self._action(view, "&Frame Face", self.doc.frame_all, "F")
-        frame.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
-        self.viewport.addAction(frame)
+        numpad_period = QKeySequence(Qt.Key.Key_Period | Qt.KeyboardModifier.KeypadModifier)
+        frame = self._action(view, "&Frame Face", self.doc.frame_face,
+                             ["Home", numpad_period, "F"],
+                             "The face from its front, filling the view (Home, numpad ., F)")
+        everything = self._action(view, "Frame &All", self.doc.frame_all, "Shift+Home",
+                                  "The whole mesh: neck, shoulders, eyes and teeth too")
+        for action in (frame, everything):
+            action.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
+            self.viewport.addAction(action)
         view.addSeparator()
         for title, dock in self.docks.items():
             if title != "History":
@@ -264,7 +270,7 @@ class MainWindow(QMainWindow):
             return False
         self.doc.replace_project(project, path)
         self._remember_recent(path)
-        self.statusBar().showMessage(f"Opened {path}", 5000)
+        self.statusBar().showMessage(f"Opened {path} · face: {self.doc.face_frame().how}", 8000)
         return True
 
     def open_dialog(self) -> None:

@@ -34,6 +34,7 @@ from PySide6.QtWidgets import (
 from studio.core.assemble import project_from_files, suggest_not_face
 from studio.core.auto_setup import auto_start
 from studio.core.errors import StudioError
+from studio.core.face_frame import face_frame, face_locator
 from studio.core.meshio import ObjGroup, obj_groups
 from studio.core.normalmap import flip_green
 from studio.core.project import Project
@@ -267,7 +268,8 @@ class NewProjectDialog(QDialog):
             progress, step = progress_dialog(self, "Auto set-up",
                                              "Setting up wrinkles from the key poses…")
             try:
-                self.report = auto_start(project, progress=step)
+                frame = face_frame(project)
+                self.report = auto_start(project, locate=face_locator(frame), progress=step)
             except StudioError as exc:
                 QMessageBox.critical(self, "Cannot set up from the poses", str(exc))
                 return
@@ -276,5 +278,6 @@ class NewProjectDialog(QDialog):
             if self.report is None:  # cancelled: the dialog stays, nothing was made
                 self.report = []
                 return
+            self.report.insert(0, f"Assumed: {frame.how}.")
         self.project = project
         self.accept()

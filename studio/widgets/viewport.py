@@ -316,8 +316,9 @@ class Viewport(QOpenGLWidget):
         key = event.key()
         keypad = bool(event.modifiers() & Qt.KeyboardModifier.KeypadModifier)
         views = {Qt.Key.Key_1: (0.0, 0.0), Qt.Key.Key_3: (90.0, 0.0), Qt.Key.Key_7: (0.0, 89.0)}
-        if key in (Qt.Key.Key_F, Qt.Key.Key_Home):
-            self.doc.frame_all()
+        if key in (Qt.Key.Key_F, Qt.Key.Key_Home) or (keypad and key == Qt.Key.Key_Period):
+            shift = event.modifiers() & Qt.KeyboardModifier.ShiftModifier
+            (self.doc.frame_all if shift and key == Qt.Key.Key_Home else self.doc.frame_face)()
         elif keypad and key in views:
             self.doc.camera.yaw, self.doc.camera.pitch = views[key]
             if event.modifiers() & Qt.KeyboardModifier.ControlModifier and key == Qt.Key.Key_3:
