@@ -162,3 +162,24 @@ def test_home_frames_the_face_and_the_numpad_views_follow_its_axes(open_window, 
     assert np.dot(camera.direction(), frame.up) > 0.99
     qtbot.keyClick(vp, Qt.Key.Key_1, Qt.KeyboardModifier.KeypadModifier)  # front
     np.testing.assert_allclose(camera.direction(), frame.front, atol=1e-9)
+
+
+def test_the_mirror_plane_is_the_heads_own_not_x_zero():
+    """The head stands 35 cm to the side of the origin: mirroring across x = 0 would land
+    nowhere near the face; across the face's own plane, the left eye corner maps to the
+    right one."""
+    from studio.core import selection as sel
+
+    head, project = head_project("mm")
+    frame = face_frame(project)
+    assert frame.mirror_axis == 0
+    assert frame.mirror_plane == pytest.approx(head.to_world(np.zeros((1, 3)))[0, 0], abs=0.5)
+    face = head.to_sample(project.mesh.rest)
+    skin = ~project.not_face
+    corner = {}
+    for side in (1, -1):
+        d = np.hypot(face[:, 0] - side * 0.45, face[:, 1] - 0.075) + 10 * (face[:, 2] < 0.2)
+        corner[side] = int(np.argmin(np.where(skin, d, np.inf)))
+    mirrored = sel.mirror_map(project.mesh.rest, frame.mirror_axis, frame.mirror_plane)
+    mapped = face[mirrored[corner[1]]]
+    assert np.hypot(mapped[0] + 0.45, mapped[1] - 0.075) < 0.05

@@ -116,6 +116,8 @@ class FaceFrame:
     centre: tuple[float, float, float]
     half: tuple[float, float, float]  # half-extents along left, up, front
     how: str
+    mirror_axis: int = 0  # the model axis (0, 1, 2) that runs from the face's right to its left
+    mirror_plane: float = 0.0  # … and where along it the left–right symmetry plane lies
 
     def basis(self) -> Array:
         """3×3 whose columns are left, up, front: face coordinates → model directions."""
@@ -135,7 +137,8 @@ class FaceFrame:
 
     def to_dict(self) -> dict:
         return {"left": list(self.left), "up": list(self.up), "front": list(self.front),
-                "centre": list(self.centre), "half": list(self.half), "how": self.how}
+                "centre": list(self.centre), "half": list(self.half), "how": self.how,
+                "mirror_axis": self.mirror_axis, "mirror_plane": self.mirror_plane}
 
 
 def _deformation(rest: Array, poses: Sequence[Array], edges: Array) -> Array:
@@ -212,8 +215,12 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     def floats(v: Array) -> tuple[float, float, float]:
         return tuple(float(x) for x in v)  # type: ignore[return-value]
 
+    # the left-right symmetry plane, for mirroring masks and selections: across the model
+    # axis nearest to "left", through the middle of the skin (a head is symmetric)
+    mirror_axis = int(np.argmax(np.abs(left_vec)))
+    mirror_plane = float(np.mean(skin_points[:, mirror_axis]))
     return FaceFrame(floats(left_vec), floats(up_vec), floats(front_vec), floats(centre),
-                     floats(half), "; ".join(notes))
+                     floats(half), "; ".join(notes), mirror_axis, mirror_plane)
 
 
 def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], skin: Array,

@@ -9,6 +9,7 @@ the viewport's paint tool, like the tool options bar of an image editor.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import QObject, QSettings, Qt, QTimer, Signal
@@ -70,6 +71,9 @@ class PaintState(QObject):
         self.mirror = "off"  # a key of MIRROR_MODES
         self.overlap = False
         self._surface: SurfaceMirror | None = None
+        # (model axis, position) of the face's left–right symmetry plane; the mask tools point
+        # this at the document's face frame
+        self.mirror_plane: Callable[[], tuple[int, float]] = lambda: (0, 0.0)
 
     def set_brush(self, **values) -> None:
         for key, value in values.items():
@@ -100,8 +104,10 @@ class PaintState(QObject):
     # --- mirrors -------------------------------------------------------------------------------
     def surface_mirror(self, mesh: FaceMesh) -> SurfaceMirror:
         """The mirror through this mesh, built once per mesh (its lookups are precomputed)."""
-        if self._surface is None or self._surface.mesh is not mesh:
-            self._surface = SurfaceMirror(mesh)
+        axis, plane = self.mirror_plane()
+        if self._surface is None or self._surface.mesh is not mesh or \
+                (self._surface.axis, self._surface.plane) != (axis, plane):
+            self._surface = SurfaceMirror(mesh, axis, plane)
         return self._surface
 
     def stroke_mirror(self, mesh: FaceMesh) -> Mirror | None:

@@ -194,6 +194,11 @@ class Document(QObject):
             self._face = face_frame(self.project)
         return self._face
 
+    def mirror_plane(self) -> tuple[int, float]:
+        """(model axis, position) of the face's left–right symmetry plane, for mirroring."""
+        face = self.face_frame()
+        return face.mirror_axis, face.mirror_plane
+
     def frame_face(self) -> None:
         """View ▸ Frame Face: the face from its front-facing side, filling the view."""
         aim(self.camera, self.project, "face", self.face_frame())

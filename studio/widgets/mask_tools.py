@@ -19,6 +19,7 @@ class MaskTools:
         self.window = window
         doc = window.doc
         self.state = PaintState(window)
+        self.state.mirror_plane = window.doc.mirror_plane  # the face's own symmetry plane
         self._remember_brush()
         self.panel = AreasPanel(doc, self.state)
         self.canvas = UvCanvas(doc, self.state)

@@ -123,7 +123,7 @@ class WdvTools(QObject):
 
     def mirror_index(self) -> np.ndarray:
         if self._mirror is None:
-            self._mirror = sel.mirror_map(self.doc.project.mesh.rest)
+            self._mirror = sel.mirror_map(self.doc.project.mesh.rest, *self.doc.mirror_plane())
         return self._mirror
 
     # --- what the select tool asks ---------------------------------------------------------------
