@@ -28,6 +28,7 @@ import numpy as np
 from studio.core.camera import OrbitCamera
 from studio.core.errors import StudioError
 from studio.core.face_regions import region_name
+from studio.core.pose_names import canonical
 
 Array = np.ndarray
 
@@ -37,10 +38,15 @@ SNAP_DEGREES = 30.0  # a detected direction this close to an axis is taken as th
 DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation is face
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
 
-# Pose names (lower case, no separators, side suffixes removed) and which way they move skin.
-_UPWARD = ("browinnerup", "browouterup", "eyewide", "nosesneer", "mouthupperup",
-           "cheeksquint", "mouthsmile", "browraise", "browsup", "surprise")
-_DOWNWARD = ("jawopen", "browdown", "mouthlowerdown", "mouthfrown", "eyeblink", "frown")
+# Which way poses move the skin, by ARKit name, and by words other rigs use
+_UPWARD = {"browInnerUp", "browOuterUpLeft", "browOuterUpRight", "eyeWideLeft", "eyeWideRight",
+           "noseSneerLeft", "noseSneerRight", "mouthUpperUpLeft", "mouthUpperUpRight",
+           "cheekSquintLeft", "cheekSquintRight", "mouthSmileLeft", "mouthSmileRight"}
+_DOWNWARD = {"jawOpen", "browDownLeft", "browDownRight", "mouthLowerDownLeft",
+             "mouthLowerDownRight", "mouthFrownLeft", "mouthFrownRight", "eyeBlinkLeft",
+             "eyeBlinkRight"}
+_UP_WORDS = ("browraise", "browsup", "browup", "surprise", "raise")
+_DOWN_WORDS = ("frown", "browdown", "jawdown", "blink")
 
 
 def parse_axis(text: str) -> Array:
@@ -92,17 +98,18 @@ def face_locator(frame: FaceFrame):
     return locate
 
 
-def _pose_direction(name: str) -> int:
-    """+1 for a pose that moves skin up, −1 down, 0 when its name does not say."""
+def _pose_direction(name: str, words: bool) -> int:
+    """+1 for a pose that moves skin up, −1 down, 0 when its name does not say: by its ARKit
+    name, or (``words``) by a word such as "raise" or "frown" in it."""
+    known = canonical(name)
+    if known is not None:
+        return 1 if known in _UPWARD else -1 if known in _DOWNWARD else 0
+    if not words:
+        return 0
     key = re.sub(r"[\s_.\-]", "", name.lower())
-    key = key.split(":")[-1]
-    for word in _DOWNWARD:
-        if word in key:
-            return -1
-    for word in _UPWARD:
-        if word in key:
-            return 1
-    return 0
+    if any(word in key for word in _DOWN_WORDS):
+        return -1
+    return 1 if any(word in key for word in _UP_WORDS) else 0
 
 
 @dataclass(frozen=True)
@@ -232,8 +239,10 @@ def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], sk
     votes = np.zeros(len(AXES))
     axes = np.array(list(AXES.values()), np.float64)
     used = []
+    # ARKit names are unambiguous: when a rig has them, only they vote
+    words = not any(_pose_direction(name, False) for name in names)
     for name, positions in zip(names, poses, strict=False):
-        sign = _pose_direction(name)
+        sign = _pose_direction(name, words)
         if sign == 0:
             continue
         motion = (positions - rest)[skin]

@@ -335,3 +335,42 @@ def footprint_ring(centre_uv: Sequence[float], radius_uv: tuple[float, float], u
     if not ok.all():
         return None
     return bary @ np.asarray(corners, np.float64)
+
+
+# --- a whole mask, mirrored ----------------------------------------------------------------------
+
+def mirror_mask(mask: Array, mirror: SurfaceMirror) -> Array:
+    """The mask painted on the other side of the face: each texel takes the value at its mirror
+    image through the mesh (the mirror is its own inverse), so the result has no holes whatever
+    the UV layout. Only texels whose mirror image can fall in the painted region are looked up:
+    the painted texels' own images bound them."""
+    h, w = mask.shape
+    out = np.zeros_like(mask)
+    rows, cols = np.nonzero(mask > 0.0)
+    if not len(rows):
+        return out
+    reach = 2.0 / max(h, w)
+
+    def mirrored(r: Array, c: Array) -> tuple[Array, Array]:
+        """Texel centres → (which have an image, image texel rows and columns, as floats)."""
+        uvs = np.c_[(c + 0.5) / w, 1.0 - (r + 0.5) / h]
+        tri, bary = mirror.locate_uv(uvs, reach)
+        ok = np.flatnonzero(tri >= 0)
+        tri2, bary2 = mirror.mirror_surface(mirror.rest_points(tri[ok], bary[ok]))
+        uv = mirror.uv_points(tri2, bary2)
+        return ok, np.c_[(1.0 - uv[:, 1]) * h - 0.5, uv[:, 0] * w - 0.5]
+
+    step = max(1, len(rows) // 20000)  # the painted region's images give the target's bounds
+    _, images = mirrored(rows[::step].astype(np.float64), cols[::step].astype(np.float64))
+    if not len(images):
+        return out
+    pad = 3 + 2 * step
+    r0, c0 = np.maximum(np.floor(images.min(axis=0)).astype(int) - pad, 0)
+    r1, c1 = np.minimum(np.ceil(images.max(axis=0)).astype(int) + pad + 1, (h, w))
+    rr, cc = np.mgrid[r0:r1, c0:c1]
+    rr, cc = rr.ravel(), cc.ravel()
+    ok, source = mirrored(rr.astype(np.float64), cc.astype(np.float64))
+    sr = np.clip(np.rint(source[:, 0]).astype(int), 0, h - 1)
+    sc = np.clip(np.rint(source[:, 1]).astype(int), 0, w - 1)
+    out[rr[ok], cc[ok]] = mask[sr, sc]
+    return out

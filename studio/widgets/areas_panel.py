@@ -261,7 +261,10 @@ class AreasPanel(QScrollArea):
                  ("Rename…", "Rename the selected area (or double-click it)", self.rename_dialog),
                  ("Delete", "Delete the selected area", self.delete),
                  ("Up", "Move the selected area up", lambda: self.move(-1)),
-                 ("Down", "Move the selected area down", lambda: self.move(1))]
+                 ("Down", "Move the selected area down", lambda: self.move(1)),
+                 ("Mirror", "Mirror the selected area to the other side of the face, through "
+                            "the mesh: …_L becomes …_R, linked to the paired poses",
+                  self.mirror_to_other_side)]
         for i, (text, tip, slot) in enumerate(specs):
             buttons.addWidget(self._button(text, tip, slot), i // 3, i % 3)
         v.addLayout(buttons)
@@ -527,6 +530,14 @@ class AreasPanel(QScrollArea):
         if self.active_area() is not None:
             mask_edits.duplicate_area(self.doc, self.state.active)
             self.select(self.state.active + 1)
+
+    def mirror_to_other_side(self) -> None:
+        """The selected area, mirrored to the other side of the face (one undo step)."""
+        if self.active_area() is None:
+            return
+        area = mask_edits.mirror_area(self.doc, self.state.active,
+                                      self.state.surface_mirror(self.doc.project.mesh))
+        self.select(self.doc.project.influence.areas.index(area))
 
     def delete(self) -> None:
         if self.active_area() is not None:

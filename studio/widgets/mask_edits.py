@@ -20,7 +20,9 @@ from studio.core.brush import Brush, Mirror, Rect, Stroke, tile_changes
 from studio.core.errors import ImageError
 from studio.core.images import load_grey, write_png
 from studio.core.influence import InfluenceArea
+from studio.core.mirror_area import mirrored_area
 from studio.core.naming import unique_name
+from studio.core.surface_mirror import SurfaceMirror
 from studio.widgets.document import Document
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp"}
@@ -185,6 +187,25 @@ def duplicate_area(doc: Document, index: int) -> InfluenceArea:
     areas.insert(index + 1, area)
     doc.undo_stack.push(AreasCommand(doc, f"Duplicate {src.name}", areas))
     return area
+
+
+def mirror_area(doc: Document, index: int, mirror: SurfaceMirror) -> InfluenceArea:
+    """The area mirrored to the other side of the face (through the mesh), as one step: a new
+    area after it, or the paired area (``…_L`` → ``…_R``) replaced; linked to the paired poses."""
+    made = mirrored_area(doc.project, index, mirror)
+    influence = doc.project.influence
+    areas = list(influence.areas)
+    links = copy.deepcopy(influence.links)
+    if made.replaces is None:
+        areas.insert(index + 1, made.area)
+    else:
+        areas[made.replaces] = made.area
+        links = _links_without(links, [made.area.name])
+    for pose, gain in made.links.items():
+        links.setdefault(pose, {})[made.area.name] = gain
+    doc.undo_stack.push(AreasCommand(doc, f"Mirror {influence.areas[index].name} to "
+                                          f"{made.area.name}", areas, links))
+    return made.area
 
 
 def delete_area(doc: Document, index: int) -> None:

@@ -8,6 +8,7 @@ from PySide6.QtWidgets import (
     QFormLayout,
     QGroupBox,
     QLabel,
+    QLineEdit,
     QPushButton,
     QScrollArea,
     QVBoxLayout,
@@ -41,8 +42,13 @@ class ActivationBar(QWidget):
         painter.fillRect(filled, self.colour)
 
 
+FILTER_FROM = 8  # poses beyond which the panel offers a filter field
+
+
 def pose_label(name: str) -> str:
-    return name.replace("_", " ").capitalize()
+    """A pose's name as the user's rig spells it (``browInnerUp``, ``eyeBlink_L``): never
+    re-cased, so it can be found in the rig, the capture file and the engine."""
+    return name
 
 
 class PosePanel(QScrollArea):
@@ -67,6 +73,13 @@ class PosePanel(QScrollArea):
         layout = QVBoxLayout(body)
         poses = QGroupBox("Key poses")
         pose_layout = QVBoxLayout(poses)
+        self.filter = QLineEdit()
+        self.filter.setPlaceholderText("Filter poses (e.g. brow, _L, smile)")
+        self.filter.setClearButtonEnabled(True)
+        self.filter.setToolTip("Show only the poses whose name contains this text (any case)")
+        self.filter.textChanged.connect(self._apply_filter)
+        self.filter.setVisible(len(self.doc.project.poses) > FILTER_FROM)
+        pose_layout.addWidget(self.filter)
         self.pose_rows = {}
         for pose in self.doc.project.poses:
             row = SliderRow(pose_label(pose.name))
@@ -97,6 +110,13 @@ class PosePanel(QScrollArea):
         layout.addStretch(1)
         self.setWidget(body)
         self._show_values()
+
+    def _apply_filter(self, text: str) -> None:
+        """Rows whose pose name contains the text (any case), like the shape-key filter of a
+        3-D package: a pose of a 52-pose rig is found by typing."""
+        wanted = text.strip().lower()
+        for name, row in self.pose_rows.items():
+            row.setVisible(wanted in name.lower())
 
     def _reset_pose(self) -> None:
         macro = self.doc.undo_stack
