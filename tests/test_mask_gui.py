@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import copy
-import os
-import time
 
 import numpy as np
 import pytest
@@ -58,23 +56,6 @@ def show_t1(window) -> None:
     window.doc.set_view(technique="t1")
 
 
-def xfail_if_compose_pass_is_blended(window) -> None:
-    """Known renderer bug (not this feature's): the technique-1 compose pass draws with blending
-    that a viewport overlay left on, so the composed weight stays 0 although activations are set.
-    Detected precisely here, so the test turns green by itself once the renderer is fixed."""
-    vp = window.viewport
-    r = vp.renderer
-    vp.makeCurrent()
-    try:
-        weight = np.frombuffer(r._t1_weight.read(), np.float16)
-        acts = np.frombuffer(r._activations.read(), np.float32)
-    finally:
-        vp.doneCurrent()
-    if acts.max() > 0 and weight.max() == 0:
-        pytest.xfail("renderer: _compose_t1 runs with GL blending left on by an overlay "
-                     "(needs ctx.disable(moderngl.BLEND)); the composed weight is all 0")
-
-
 def test_drag_on_the_uv_canvas_paints_the_stroke_and_one_undo_removes_it(window, qtbot):
     tools = window.mask_tools
     window.docks["UV Paint"].show()
@@ -117,8 +98,6 @@ def test_drag_on_the_uv_canvas_paints_the_stroke_and_one_undo_removes_it(window,
     fx, fy = uv_pixel(window, "forehead")
     assert area.mask[int(fy), int(fx)] > 0.3
     assert np.array_equal(undone, before)
-    if region_difference(before, after, marks["forehead"]) <= 2.0:
-        xfail_if_compose_pass_is_blended(window)
     assert region_difference(before, after, marks["forehead"]) > 2.0
     assert region_difference(before, after, marks["chin"]) == 0.0
 
@@ -324,36 +303,27 @@ def test_overlap_view_marks_sums_over_one(window):
     assert doc.project.influence.areas[0].mask[int(cy), int(cx)] == 0.0
 
 
-def test_stroke_segments_on_a_4096_mask_stay_fast(window, capsys):
+def test_stroke_segments_on_a_4096_mask_store_only_their_tiles(window):
+    """A stroke on a 4096² mask keeps, for its undo step, only the tiles it touched (its cost
+    per segment is the benchmark's to measure, not a test's)."""
     doc = window.doc
     set_resolution(doc, 4096)
     area = doc.project.influence.areas[0]
     assert area.mask.shape == (4096, 4096)
-    doc.set_view(technique=os.environ.get("WS_T", "t1"))
-    viewport_image(window)  # the full upload after the resize, not timed
+    doc.set_view(technique="t1")
+    viewport_image(window)
     state = window.mask_tools.state
     state.set_brush(radius=60.0, spacing=0.2)
-    start = time.perf_counter()
-    for _ in range(5):
-        window.viewport.repaint()  # frames without painting: the baseline
-    baseline = (time.perf_counter() - start) / 5
+    before = area.mask.copy()
     session = PaintSession(doc, 0, state.brush)
     session.jump(1000, 1000)
-    segments, core, frames = 15, 0.0, 0.0
-    for i in range(1, segments + 1):
-        start = time.perf_counter()
+    for i in range(1, 16):
         session.to(1000 + 12 * i, 1000 + 4 * i)  # a mouse move of ~12.6 px: about 1 dab
-        core += time.perf_counter() - start
-        start = time.perf_counter()
         window.viewport.repaint()  # the frame that uploads that rectangle (and draws)
-        frames += time.perf_counter() - start
     command = session.end()
+    changed = np.argwhere(area.mask != before)
+    assert len(changed) and changed.min(axis=0).tolist() >= [1000 - 61, 1000 - 61]
     assert command.stored_pixels < 0.01 * area.mask.size
-    with capsys.disabled():
-        print(f"\n4096² stroke segment (dabs + canvas + signals): {core / segments * 1e3:.2f} ms;"
-              f" viewport frame with its rectangle upload: {frames / segments * 1e3:.1f} ms"
-              f" (without painting: {baseline * 1e3:.1f} ms)")
-    assert core / segments < 0.05
 
 
 def test_a_face_dab_at_a_uv_seam_also_lands_in_the_other_chart(qtbot, sample):

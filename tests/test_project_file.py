@@ -769,3 +769,22 @@ def test_a_reused_process_id_does_not_keep_a_dead_saves_staging_file() -> None:
     thread.start()
     thread.join()
     assert seen == [False]
+
+
+@pytest.mark.parametrize("name", ["../outside.png", "masks/../../outside.png", "/etc/passwd",
+                                  "masks/./00.png", "C:/evil.png", "masks\\\\00.png"])
+def test_a_member_whose_name_leads_outside_the_archive_is_refused(tmp_path: Path, saved: Path,
+                                                                  name: str) -> None:
+    """An archive the studio did not write: a member name escaping the archive (or absolute,
+    or backslashed) is refused by name, before anything is read, as is project.json naming
+    one for a mask."""
+    bad = rewrite(saved, tmp_path / "bad.wrinkle", files={name: b"x"})
+    with pytest.raises(ProjectError, match="unsafe name"):
+        project_file.load_project(bad)
+
+    def point_a_mask_outside(doc: dict) -> None:
+        doc["influence"]["areas"][0]["mask"] = name
+
+    named = rewrite(saved, tmp_path / "named.wrinkle", doc=point_a_mask_outside)
+    with pytest.raises(ProjectError, match="invalid member"):
+        project_file.load_project(named)

@@ -1,7 +1,8 @@
-"""Long sessions: 10 000 frames of playback and 1 000 strokes do not grow memory without bound.
+"""Long sessions: playback and many strokes do not grow memory without bound.
 
-The two long tests are marked slow: ``python -m pytest -m slow tests/test_soak.py -s`` prints the
-figures quoted in docs/reliability.md. Memory is measured two ways: the process's resident
+Every test run plays 2 000 frames and paints 200 strokes; ``WRINKLE_SOAK_FRAMES=10000
+WRINKLE_SOAK_STROKES=1000 python -m pytest tests/test_soak.py -s`` prints the figures quoted in
+docs/reliability.md. Memory is measured two ways: the process's resident
 size (/proc/self/statm: Python, numpy, Qt and the GL driver together) and tracemalloc (Python
 allocations only), each after a warm-up so that caches and first-use allocations are excluded.
 What could grow per frame without showing much memory — signal connections, undo steps, scene
@@ -25,8 +26,10 @@ from PySide6.QtWidgets import QApplication
 from studio.core.brush import Brush
 from studio.widgets.mask_edits import PaintSession
 
-FRAMES = int(os.environ.get("WRINKLE_SOAK_FRAMES", "10000"))
-STROKES = max(200, int(os.environ.get("WRINKLE_SOAK_STROKES", "1000")))
+# Run in every test run at these counts (about two minutes under software GL); the figures in
+# docs/reliability.md come from WRINKLE_SOAK_FRAMES=10000 WRINKLE_SOAK_STROKES=1000.
+FRAMES = int(os.environ.get("WRINKLE_SOAK_FRAMES", "2000"))
+STROKES = max(200, int(os.environ.get("WRINKLE_SOAK_STROKES", "200")))
 WARM_UP = min(1000, FRAMES // 2)  # frames before memory is first measured
 BLOCK = 500  # frames per timing block
 MB = 1 << 20
@@ -109,7 +112,6 @@ class FrameClock:
         return (self.ticks - 0.5) * self.step  # mid-frame: no rounding down to the last one
 
 
-@pytest.mark.slow
 def test_long_playback_does_not_grow_memory(window, qtbot):
     doc = window.doc
     panel = window.timeline_panel
@@ -182,11 +184,12 @@ def test_long_playback_does_not_grow_memory(window, qtbot):
     assert after["timeline scene items"] == before["timeline scene items"]
     assert after["undo steps"] <= before["undo steps"] + len(blocks)  # the nudges only
     assert after["python objects"] < before["python objects"] + 2000
-    assert py1 - py0 < 1 * MB  # a leak of 400 B a frame (see below) made 3.5 MB
+    # a leak of 400 B a frame (see docs/reliability.md) made 3.5 MB over 9 000 frames: at most
+    # 150 B a frame is allowed, so it shows at any count
+    assert py1 - py0 < min(1 * MB, 150 * (shown - WARM_UP))
     assert rss1 - rss0 < 48 * MB
 
 
-@pytest.mark.slow
 def test_many_strokes_stay_within_the_undo_budget(window, qtbot):
     doc = window.doc
     budget = window.undo_budget

@@ -29,7 +29,9 @@ def track(mode: str) -> Track:
     ("constant", 20.0, 1.0),
 ])
 def test_weight_between_keys_for_each_interpolation(mode, frame, expected):
+    """Both evaluations: one frame at a time (playback) and vectorised (export, curves)."""
     assert track(mode).value_at(frame) == pytest.approx(expected, abs=1e-9)
+    assert track(mode).values_at([frame, frame])[1] == pytest.approx(expected, abs=1e-6)
 
 
 @pytest.mark.parametrize("mode", INTERPOLATIONS)

@@ -53,7 +53,18 @@ def sparse_masks(masks: np.ndarray) -> SparseMasks:
 
 
 def composed_weight(sparse: SparseMasks, activations: np.ndarray) -> np.ndarray:
-    """What the GPU's compose pass computes, for tests: (H, W) in [0, 1]."""
+    """What the GPU's compose pass computes when every area reveals the first map: (H, W)."""
+    return composed_weights(sparse, activations, np.zeros(len(activations), np.int64))[..., 0]
+
+
+def composed_weights(sparse: SparseMasks, activations: np.ndarray, area_maps: np.ndarray
+                     ) -> np.ndarray:
+    """The numpy reference of shaders/t1_compose.frag: (H, W, 4), per wrinkled map m,
+    ``clamp(Σ_k weight_k · activation[index_k] [map of index_k = m], 0, 1)``."""
     act = np.asarray(activations, np.float32)
+    maps = np.asarray(area_maps, np.int64)
     values = sparse.weights.astype(np.float32) / 255.0 * act[sparse.indices]
-    return np.clip(values.sum(axis=-1), 0.0, 1.0)
+    out = np.zeros((*values.shape[:2], 4), np.float32)
+    for m in range(4):
+        out[..., m] = np.where(maps[sparse.indices] == m, values, 0.0).sum(axis=-1)
+    return np.clip(out, 0.0, 1.0)

@@ -126,3 +126,30 @@ class WdvSlots:
     dirs: Array  # (W, SLOTS, 4) direction xyz and authored length
     cones: Array  # (W, SLOTS) cone half-angle in radians
     maps: Array  # (W, SLOTS) index of the wrinkled normal map the slot's area reveals
+
+
+def visibility(delta: Array, slots: WdvSlots, expression_factor: float = 1.0,
+               scale_free: bool = True) -> Array:
+    """The numpy reference of shaders/face.vert's ``wdv_visibility``: per vertex, for each
+    wrinkled map, the strongest slot's ``clamp(m · (1 − α/θ) · k, 0, 1)`` where the motion
+    ``delta`` lies inside the slot's cone (α < θ), m = |delta| (over the authored length when
+    ``scale_free``), k the expression factor; (V, 4)."""
+    delta = np.asarray(delta, np.float64)
+    length = np.linalg.norm(delta, axis=1)
+    out = np.zeros((len(delta), 4))
+    for s in range(slots.dirs.shape[1]):
+        d = slots.dirs[:, s, :3].astype(np.float64)
+        authored = slots.dirs[:, s, 3].astype(np.float64)
+        theta = slots.cones[:, s].astype(np.float64)
+        used = (authored > 0) & (theta > 0) & (length > 0)
+        cos = np.einsum("ij,ij->i", delta, d) / np.where(length > 0, length, 1.0)
+        alpha = np.arccos(np.clip(cos, -1.0, 1.0))
+        inside = used & (alpha < theta)
+        magnitude = length / np.where(authored > 0, authored, 1.0) if scale_free else length
+        w = np.clip(magnitude * (1.0 - alpha / np.where(theta > 0, theta, 1.0))
+                    * expression_factor, 0.0, 1.0)
+        w = np.where(inside, w, 0.0)
+        maps = slots.maps[:, s].astype(np.int64)
+        for m in range(4):
+            out[:, m] = np.maximum(out[:, m], np.where(maps == m, w, 0.0))
+    return out

@@ -390,6 +390,16 @@ class FaceRenderer:
             x1, y1 = boxes[:, 2:].max(axis=0)
             self._mark_t1_region(int(x0), int(y0), int(x1 - x0), int(y1 - y0))
 
+    def read_t1_weights(self) -> np.ndarray:
+        """Technique 1's composed weight texture as the face shader reads it, (H, W, 4) float32,
+        one weight per wrinkled map, row 0 at the top like the masks (composed first if an
+        activation or a mask changed): what tests compare with the numpy reference."""
+        if self._t1_dirty:
+            self._compose_t1()
+        w, h = self._t1_weight.size
+        data = np.frombuffer(self._t1_weight.read(), np.float16).reshape(h, w, 4)
+        return data.astype(np.float32)
+
     def set_area_maps(self, maps: np.ndarray) -> None:
         """Which wrinkled map (index) each technique-1 area reveals, in area order."""
         self._area_maps = np.asarray(maps, np.float32)
@@ -525,7 +535,8 @@ class FaceRenderer:
         self._bind_textures()
         for name in ("t1_index", "t1_slot_weight", "activations"):
             prog[f"u_{name}"].value = _UNIT[name]
-        self.ctx.disable(moderngl.DEPTH_TEST)
+        # the weights are written, not blended: an overlay drawn before may have left blending on
+        self.ctx.disable(moderngl.DEPTH_TEST | moderngl.BLEND)
         self._t1_fbo.use()
         self.ctx.viewport = (0, 0, *self._t1_weight.size)
         self.ctx.scissor = self._t1_dirty_rect

@@ -32,11 +32,14 @@ def with_defines(source: str, defines: Iterable[str]) -> str:
     return f"{lines[0]}\n{extra}{lines[1] if len(lines) > 1 else ''}"
 
 
-def build_program(ctx: moderngl.Context, vertex: str, fragment: str,
+def build_program(ctx: moderngl.Context, vertex: str, fragment: str | None,
                   defines: Iterable[str] = (), tess_control: str | None = None,
-                  tess_evaluation: str | None = None) -> moderngl.Program:
+                  tess_evaluation: str | None = None,
+                  varyings: Iterable[str] = ()) -> moderngl.Program:
     """A program from shader files, every stage with the same defines; the tessellation stages
-    (OpenGL 4.0) are optional and come as a pair."""
+    (OpenGL 4.0) are optional and come as a pair. With ``varyings`` (and no fragment shader)
+    the vertex stage's outputs are captured by transform feedback: how the tests read back
+    what the real shader computed per vertex."""
     if (tess_control is None) != (tess_evaluation is None):
         raise ValueError("give both tessellation stages or neither")
     defines = tuple(defines)
@@ -49,4 +52,5 @@ def build_program(ctx: moderngl.Context, vertex: str, fragment: str,
         fragment_shader=stage(fragment),
         tess_control_shader=stage(tess_control),
         tess_evaluation_shader=stage(tess_evaluation),
+        varyings=tuple(varyings),
     )
