@@ -167,6 +167,7 @@ def test_the_displaced_surface_has_no_pinholes(sample, gl_context):
 
 def test_parallax_moves_the_forehead_wrinkles_not_the_chin(sample, gl_context):
     with OffscreenStudio(sample, W, H, ctx=gl_context) as studio:
+        studio.camera.frame(*sample.mesh.bounds())  # the whole head, as these figures were set
         studio.camera.yaw = 50.0  # oblique: parallax shifts with the view angle
         marks = landmark_pixels(sample, studio.camera, W, H)
         surprise = {"surprise": 1.0}

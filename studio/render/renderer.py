@@ -8,7 +8,7 @@ tangents (one interleaved buffer write) and the draw.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -22,7 +22,7 @@ from studio.core.relief import DEFAULT_RELIEF_DEPTH, maps_digest, relief_image
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
 from studio.core.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
 from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
-from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
+from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS
 from studio.core.wdv import SLOTS, WdvSlots
 from studio.render.shaders import build_program
 from studio.render.triangle_split import TriangleSplit
@@ -42,10 +42,7 @@ class RenderSettings:
     technique: str = "t2"  # flat | none | t1 | t2 | strain (automatic, from skin compression)
     view: str = "shaded"  # shaded | heat | normals | uv
     wireframe: bool = False
-    # view space, toward the light; by default the view model's, so that a plain render lights
-    # the face as the viewport does
-    light_dir: tuple[float, float, float] = field(
-        default_factory=lambda: ViewSettings().light_dir())
+    light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)  # view space, toward the light
     ambient: float = 0.1
     specular: float = 0.12
     shininess: float = 20.0
