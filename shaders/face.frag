@@ -1,6 +1,6 @@
 #version 330 core
 // Face fragment shader: normal-mapped Blinn-Phong, blending the neutral shading with up to four
-// wrinkled shadings by the per-map wrinkle weights of the technique (SPEC §4, §5), plus the
+// wrinkled shadings by the per-map wrinkle weights of the technique, plus the
 // debug views.
 // Defines: TECHNIQUE_{FLAT,NONE,T1,T2,STRAIN}; T1_DIRECT (loop over every mask layer, the
 // thesis's form, instead of the composed weight texture); BLEND_NORMALS (blend the normals and
@@ -65,7 +65,7 @@ vec3 wrinkled_normal(int m, vec4 normals, vec2 uv) {
 }
 
 #ifdef RELIEF_PARALLAX
-// Parallax occlusion mapping (for GL 3.3 or a low budget; issue 10). The surface is taken to lie
+// Parallax occlusion mapping (for GL 3.3 or a low budget). The surface is taken to lie
 // at height H(uv) = u_relief_depth * sum of w_m * h_m (model units; h from studio/core/relief.py,
 // |h| <= 1, valleys negative); the view ray is marched down through the height range
 // [-depth * W, depth * W] in a handful of steps (more at grazing angles) until it passes under

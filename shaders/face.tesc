@@ -1,5 +1,5 @@
 #version 400 core
-// Face tessellation control, relief "displace" (issue 10: wrinkles in silhouette).
+// Face tessellation control, relief "displace": wrinkles in silhouette.
 // Patches are the mesh's triangles. Each edge is split into segments about u_tess_pixels long on
 // screen (the edge's bounding sphere projected at its distance, so an edge seen end-on at the
 // silhouette is refined as finely as one seen face-on), up to u_tess_max; the cost follows the

@@ -1,5 +1,5 @@
 #version 400 core
-// Face tessellation evaluation, relief "displace" (issue 10): every varying of face.frag is
+// Face tessellation evaluation, relief "displace": every varying of face.frag is
 // interpolated across the patch, and the point moves along its normal by
 // u_relief_depth * sum over maps m of w_m * h_m, with w the wrinkle weights the fragment shader
 // shades with (scaled to sum at most 1, as there) and h_m map m's wrinkle height (0 = none,

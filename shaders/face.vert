@@ -1,6 +1,6 @@
 #version 330 core
 // Face vertex shader. The loader defines exactly one of TECHNIQUE_FLAT, TECHNIQUE_NONE,
-// TECHNIQUE_T1, TECHNIQUE_T2, TECHNIQUE_STRAIN. Technique 2 (SPEC §5) is computed here,
+// TECHNIQUE_T1, TECHNIQUE_T2, TECHNIQUE_STRAIN. Technique 2 is computed here,
 // per vertex, and interpolated to the fragment shader as v_weights (one weight per wrinkled map);
 // so is the strain mode's weight (skin compression, computed on the CPU with the normals), which
 // reveals the first map.
@@ -30,7 +30,7 @@ in vec4 in_slot_map;  // index of the wrinkled map each slot's area reveals
 uniform float u_expression;   // k, the expression factor
 uniform bool u_scale_free;    // divide |delta| by the authored length
 
-// Strongest visibility over the vertex's slots, per wrinkled map (order-independent), SPEC §5:
+// Strongest visibility over the vertex's slots, per wrinkled map (order-independent):
 // w = clamp(|delta| * (1 - alpha / theta_max) * k, 0, 1) inside the cone, 0 outside.
 vec4 wdv_visibility(vec3 delta) {
     float len = length(delta);

@@ -1,1 +1,1 @@
-"""The thesis's performance study (SPEC §7), reproduced and extended: ``wrinkle-studio bench``."""
+"""The thesis's performance study, reproduced and extended: ``wrinkle-studio bench``."""

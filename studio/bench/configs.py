@@ -10,7 +10,7 @@ EXTRA_AREAS = (32, 64, 128, 256)
 EXTRA_VERTICES = (30000,)
 AREA_MODEL = 2172
 COMPARISON_AREAS = 8  # technique 1 in the vertex comparison
-# wrinkles in depth (issue 10): each relief with both authored techniques, on the area model
+# wrinkles in depth: each relief with both authored techniques, on the area model
 RELIEF_CONFIGS = tuple((t, r) for t in ("t2", "t1") for r in ("parallax", "displace"))
 # every triangle through the wrinkle program, as if wrinkles could show anywhere on the face: the
 # worst case of the split draw, and technique 1's per-pixel cost against the number of areas

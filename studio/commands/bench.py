@@ -1,4 +1,4 @@
-"""``wrinkle-studio bench``: the thesis's performance study (SPEC §7), reproduced and extended."""
+"""``wrinkle-studio bench``: the thesis's performance study, reproduced and extended."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from studio.core.errors import StudioError
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("bench", help="time both techniques offscreen, like the thesis (SPEC §7)")
+    p = sub.add_parser("bench", help="time both techniques offscreen, like the thesis")
     p.add_argument("--frames", type=int, default=1000, help="frames per configuration (1000)")
     p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (1280x720)")
     p.add_argument("--quick", action="store_true",

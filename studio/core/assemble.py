@@ -1,9 +1,10 @@
 """A new project from the user's own files: neutral mesh, key-pose meshes, texture maps.
 
 Shared by File ▸ New from Files and the command line. Missing normal maps default to flat ones
-(SPEC §2: the neutral map may be flat); a missing diffuse map to plain skin colour. An OBJ's
-objects, groups and materials can be kept in part (``keep``) and marked as not face
-(``not_face``: eyes, teeth — never wrinkled).
+(a face may come with no detail at rest, or no wrinkled map yet); a missing diffuse map to plain
+skin colour. An OBJ's objects, groups and materials can be kept in part (``keep``) and marked as
+not face (``not_face``: eyes, teeth — never wrinkled). UDIM-tiled UVs are packed into one atlas
+and texture sets composed into it (``uv_tiles``, ``texture_sets``).
 """
 
 from __future__ import annotations

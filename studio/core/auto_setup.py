@@ -1,8 +1,8 @@
 """Starting points derived from the key poses, so an imported face shows wrinkles at once.
 
-Issue 8 (``--auto``, Auto Setup): for each key pose, a technique-2 area with wrinkle direction
+``--auto`` and Tools ▸ Auto Setup: for each key pose, a technique-2 area with wrinkle direction
 vectors on the vertices the pose moves (directions from its motion) and a technique-1 soft mask
-from its skin compression, linked to the pose. Issue 10: what the automatic (strain) mode shows
+from its skin compression, linked to the pose. And what the automatic (strain) mode shows
 at some pose weights, turned into an editable mask or WDV area.
 
 Both go through the same two builders: :func:`mask_from_weights` (per-vertex weights → a soft UV
@@ -118,7 +118,7 @@ def mask_from_weights(mesh: FaceMesh, weights: Array, shape: tuple[int, int],
 def wdv_area_from_selection(name: str, pose: str, rest: Array, target: Array, selected: Array,
                             **kwargs) -> WdvArea | None:
     """A technique-2 area whose selected vertices point along their motion from ``rest`` to
-    ``target`` (SPEC §5's "create wrinkle directions"); None when none of them moves."""
+    ``target`` (the thesis's "create wrinkle directions"); None when none of them moves."""
     result = wrinkle_directions(rest, target, np.flatnonzero(selected))
     if not result.lengths.any():
         return None
@@ -155,7 +155,7 @@ def setup_mask_size(project: Project, mask_size: int | None) -> tuple[int, int]:
     return mask_size, mask_size
 
 
-# --- issue 8: a starting point from every key pose ------------------------------------------------
+# --- a starting point from every key pose ------------------------------------------------
 
 def suggest_setup(project: Project, *, mask_size: int | None = None,
                   poses: Iterable[str] | None = None, fraction: float = SUGGEST_FRACTION,
@@ -243,7 +243,7 @@ def areas_of_poses(project: Project, poses: Iterable[str]) -> list[InfluenceArea
 
 
 def auto_setup(project: Project, *, mask_size: int | None = None, **options) -> AutoSetupReport:
-    """Give the project a starting point for both techniques from its key poses (issue 8);
+    """Give the project a starting point for both techniques from its key poses;
     ``options`` as for :func:`suggest_setup`. Returns what was added and what was skipped."""
     report = suggest_setup(project, mask_size=mask_size, **options)
     apply_setup(project, report)
@@ -296,7 +296,7 @@ def reveal_map(project: Project, report: AutoSetupReport, poses: Iterable[str],
             wdv_area.wrinkle_map = map_name
 
 
-# --- issue 10: the automatic (strain) mode's result, made editable -------------------------------
+# --- the automatic (strain) mode's result, made editable -------------------------------
 
 def active_poses(project: Project, pose_weights: Mapping[str, float]) -> dict[str, float]:
     """The key poses with a positive weight, strongest first."""

@@ -1,4 +1,4 @@
-"""Bake a wrinkled normal map from a high-polygon mesh onto the face (issue 8, SPEC §9).
+"""Bake a wrinkled normal map from a high-polygon mesh onto the face.
 
 The high-polygon mesh (a sculpt with the wrinkles, on the same UV layout) is sampled from the
 low-polygon face the way the renderer will read the map back:

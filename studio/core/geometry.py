@@ -1,4 +1,4 @@
-"""Per-frame geometry: face and vertex normals, Lengyel tangents (SPEC §3, thesis [4.1]).
+"""Per-frame geometry: face and vertex normals, Lengyel tangents.
 
 The thesis recomputes normals, tangents and bitangents on the CPU every frame, so this module has
 two faces:
@@ -103,7 +103,7 @@ def face_normals(positions: Array, triangles: Array) -> Array:
 def vertex_normals(positions: Array, triangles: Array) -> Array:
     """Area-weighted vertex normals: the normalised sum of the faces' unnormalised cross products.
 
-    Area weighting is what the thesis code does (SPEC §3). A vertex that touches no triangle of
+    Area weighting is what the thesis code does. A vertex that touches no triangle of
     non-zero area gets ``FALLBACK_NORMAL`` rather than NaN.
     """
     positions = np.asarray(positions)

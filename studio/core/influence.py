@@ -1,4 +1,4 @@
-"""Technique 1 data: influence-area masks, the activation vector, and links from poses (SPEC §4).
+"""Technique 1 data: influence-area masks, the activation vector, and links from poses.
 
 Masks are UV-space greyscale images with 1 = full influence, all of one resolution so they pack
 into one texture array. Image row 0 is the top of the UV square (v = 1), as in any image editor.

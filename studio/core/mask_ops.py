@@ -87,7 +87,7 @@ def mirror_u(mask: Array, source: str = "left") -> Array:
 # --- overlap analysis ----------------------------------------------------------------------------
 
 def weighted_sum(masks: Array, activations: Array) -> Array:
-    """Σ mask_i · a_i per pixel, before the shader's clamp (SPEC §4)."""
+    """Σ mask_i · a_i per pixel, before the shader's clamp."""
     if len(masks) == 0:
         return np.zeros((1, 1), np.float32)
     return np.tensordot(np.asarray(activations, np.float32), masks, axes=1).astype(np.float32)
@@ -184,7 +184,7 @@ def uv_coverage(mesh: FaceMesh, size: int) -> Array:
 
 def auto_mask(mesh: FaceMesh, posed_welded: Array, size: int, threshold: float = 0.1,
               softness: float = 4.0, work_size: int = 1024) -> Array:
-    """A soft UV mask where the pose compresses the skin (SPEC §4 areas, beyond the thesis).
+    """A soft UV mask where the pose compresses the skin.
 
     Compression is the smallest principal stretch's shortfall (``skin_strain``: a sideways
     squeeze counts even where the area stays the same), normalised by its 98th percentile over

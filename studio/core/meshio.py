@@ -1,4 +1,4 @@
-"""Loading face meshes and key poses (SPEC §2), and writing meshes back out as OBJ.
+"""Loading face meshes and key poses, and writing meshes back out as OBJ.
 
 OBJ — what artists exchange face models and blend shapes in — is read by our own parser, so the
 file's ``v`` order survives exactly: welded position ``i`` is the file's ``v`` number ``i + 1``,

@@ -1,4 +1,4 @@
-"""Height maps to tangent-space normal maps, and green-channel flipping (SPEC §3, §9).
+"""Height maps to tangent-space normal maps, and green-channel flipping.
 
 Images follow the project's convention: row 0 is the top of the UV square (v = 1), normals are
 OpenGL-style (+X toward +u, +Y / green toward +v, i.e. *up* the image). So a surface rising toward

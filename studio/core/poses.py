@@ -1,4 +1,4 @@
-"""Key poses and their blending (SPEC §3).
+"""Key poses and their blending.
 
 A key pose is a full set of welded positions with the neutral mesh's topology. The face in any
 frame is ``P = P_neutral + Σ_k w_k (P_k − P_neutral)``; interpolating from one pose to the next is
@@ -123,6 +123,6 @@ class PoseBlender:
 
 
 def interpolate(a: Array, b: Array, fraction: float, mode: str = "linear") -> Array:
-    """Positions a fraction of the way from pose ``a`` to pose ``b`` (SPEC §3)."""
+    """Positions a fraction of the way from pose ``a`` to pose ``b``."""
     c = ease(fraction, mode)
     return a + np.float32(c) * (b - a)

@@ -1,4 +1,4 @@
-"""The ``.wrinkle`` project file (SPEC §9): one zip archive holding everything the user made.
+"""The ``.wrinkle`` project file: one zip archive holding everything the user made.
 
 Layout (every name relative to the archive root)::
 

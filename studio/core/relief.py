@@ -1,4 +1,4 @@
-"""Wrinkle height from normal maps, for relief rendering (issue 10: wrinkles in silhouette).
+"""Wrinkle height from normal maps, for relief rendering.
 
 A tangent-space normal map stores the surface's slopes, not its height; displacement and parallax
 need the height. Each map's slopes are integrated with the Frankot–Chellappa method (the

@@ -331,7 +331,7 @@ def pore_height(size: int) -> Array:
 
 def bake_normal_maps(tx: Texels) -> tuple[Array, dict[str, Array]]:
     """Neutral (pores only) normal map, and one wrinkled (pores + its wrinkles) normal map per
-    wrinkled-map name: the sample shows off several maps (issue 10)."""
+    wrinkled-map name: the sample shows off several maps."""
     du, dv = tx.texel_size(0.0, 0.3)
     strength = (WRINKLE_SLOPE / (2.0 * du), WRINKLE_SLOPE / (2.0 * dv))
     pores = pore_height(tx.size)

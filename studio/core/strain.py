@@ -1,4 +1,4 @@
-"""Automatic wrinkles: skin compression measured each frame, no authoring needed (issue 10).
+"""Automatic wrinkles: skin compression measured each frame, no authoring needed.
 
 Each edge's compression is ``max(0, 1 − length / rest length)``; a vertex takes the mean over its
 edges, and the wrinkle weight is that compression times a gain (``gain = 1 / compression at

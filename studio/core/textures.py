@@ -1,4 +1,4 @@
-"""The face's texture maps (SPEC §2, §9).
+"""The face's texture maps.
 
 Images are stored as they are in a PNG: row 0 at the top (v = 1). Normal maps are tangent-space,
 OpenGL convention (+Y green up), 8- or 16-bit; a flat map is RGB (128, 128, 255) everywhere.
@@ -44,7 +44,7 @@ MAX_WRINKLE_MAPS = 4  # the shader blends up to four wrinkled maps per pixel (on
 class FaceTextures:
     """Diffuse, neutral normals and one or more named wrinkled normal maps.
 
-    Several wrinkled maps (issue 10) let, say, forehead compression and smile lines be authored
+    Several wrinkled maps let, say, forehead compression and smile lines be authored
     apart; each technique-1 and technique-2 area names the map it reveals ("" = the first one).
     ``normal_wrinkled`` is the first map, the one a project with a single map has.
     """

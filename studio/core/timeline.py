@@ -1,4 +1,4 @@
-"""Key-pose animation: a track of keyframes per pose, evaluated at any frame (SPEC §3).
+"""Key-pose animation: a track of keyframes per pose, evaluated at any frame.
 
 Times are in frames (fractions allowed) at the timeline's frame rate. Each key's interpolation
 mode shapes the way from that key to the next: linear, Parke's cosine, smooth (ease in/out), or

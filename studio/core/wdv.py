@@ -1,4 +1,4 @@
-"""Technique 2 data: wrinkle direction vectors per area (SPEC §5).
+"""Technique 2 data: wrinkle direction vectors per area.
 
 Each area names the key pose whose motion creates its wrinkles. "Create wrinkle directions" sets
 ``d = normalize(P_target − P_rest)`` and the reference length ``|P_target − P_rest|`` for the
@@ -86,7 +86,7 @@ def wrinkle_directions(rest: Array, target: Array, selected: Array) -> WdvResult
 @dataclass(eq=False)
 class WdvSetup:
     areas: list[WdvArea] = field(default_factory=list)
-    expression_factor: float = 1.0  # k in SPEC §5
+    expression_factor: float = 1.0  # k, the expression factor of the visibility formula
     scale_free: bool = True  # divide |δ| by the authored length, so w = k at the key pose
 
     def pack_slots(self, n_welded: int,

@@ -1,4 +1,4 @@
-"""A wrinkled normal map for a face that has none, synthesised from its key poses (issue 10).
+"""A wrinkled normal map for a face that has none, synthesised from its key poses.
 
 Where a pose compresses the skin, furrows are laid *across* the direction of compression: the
 height varies along that direction (periodic valleys ``spacing`` texels apart) and stays constant

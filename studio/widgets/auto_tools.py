@@ -184,7 +184,7 @@ class AutoTools:
             stack.push(AreaListCommand(doc, [*doc.project.wdv.areas, *wdv], text))
         stack.endMacro()
 
-    # --- issue 8: Auto Setup ------------------------------------------------------------------
+    # --- Auto Setup ------------------------------------------------------------------
     def run_auto_setup(self) -> auto_setup.AutoSetupReport | None:
         project = self.doc.project
         if not project.poses:
@@ -213,7 +213,7 @@ class AutoTools:
             self._say(report.summary())
         return report
 
-    # --- issue 10: strain → editable -----------------------------------------------------------
+    # --- strain → editable -----------------------------------------------------------
     def strain_to_mask(self) -> None:
         try:
             area, links = auto_setup.strain_mask(self.doc.project, self.doc.pose_weights)
@@ -233,7 +233,7 @@ class AutoTools:
         self._say(f"Added the wrinkle-vector area “{area.name}” ({int(area.authored.sum())} "
                   f"vectors, pose “{area.pose}”)")
 
-    # --- issue 10: a synthesised wrinkled map --------------------------------------------------
+    # --- a synthesised wrinkled map --------------------------------------------------
     def synthesise_dialog(self) -> None:
         if not self.doc.project.poses:
             QMessageBox.information(self.window, "Synthesise Wrinkled Normal Map",

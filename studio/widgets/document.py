@@ -46,9 +46,17 @@ class Document(QObject):
                  parent: QObject | None = None) -> None:
         super().__init__(parent)
         self.undo_stack = QUndoStack(self)
-        self.undo_stack.cleanChanged.connect(lambda clean: self.modifiedChanged.emit(not clean))
-        self.posesChanged.connect(lambda: setattr(self, "_face", None))  # new poses, new face
+        # bound methods, not lambdas: Qt drops the connections when the document goes
+        self.undo_stack.cleanChanged.connect(self._clean_changed)
+        self.posesChanged.connect(self._forget_face)
         self._load(project, path)
+
+    def _clean_changed(self, clean: bool) -> None:
+        self.modifiedChanged.emit(not clean)
+
+    def _forget_face(self) -> None:
+        """New poses, a new face frame (found again when next asked for)."""
+        self._face = None
 
     # --- the whole project ---------------------------------------------------------------------
     def _load(self, project: Project, path: Path | None) -> None:

@@ -65,15 +65,15 @@ class MainWindow(QMainWindow):
         self.tools.setObjectName("toolbar:tools")
         # --- authoring panels and tools: one install call each (technique 2, technique 1,
         # timeline), kept in their own modules ---
-        install_mask_tools(self)  # technique 1: influence areas, UV paint, face paint (issue 5)
-        install_timeline_tools(self)  # timeline, playback, animation export (issue 6)
-        install_wdv_tools(self)  # technique 2: wrinkle direction vectors (issue 4)
+        install_mask_tools(self)  # technique 1: influence areas, UV paint, face paint
+        install_timeline_tools(self)  # timeline, playback, animation export
+        install_wdv_tools(self)  # technique 2: wrinkle direction vectors
         install_autosave(self)  # autosave, crash recovery, undo memory budget
         self._frame_label = QLabel("")
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()
-        install_map_tools(self)  # Maps menu and File ▸ Export (issue 8), needs the menus
-        install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh (issue 8), needs Maps
+        install_map_tools(self)  # Maps menu and File ▸ Export, needs the menus
+        install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
         self._arrange_docks()
         self.doc.modifiedChanged.connect(self.setWindowModified)

@@ -231,7 +231,7 @@ def set_enabled_all(doc: Document, enabled: tuple[bool, ...], text: str) -> None
 
 
 def create_directions(doc: Document, area: WdvArea) -> np.ndarray:
-    """"Create wrinkle direction" (SPEC §5) for the selected vertices: d = normalize(P_target −
+    """"Create wrinkle direction" for the selected vertices: d = normalize(P_target −
     P_neutral) and the authored length; every other vertex of the area gets zero. Returns the
     selected vertices that do not move in the area's pose (they get no direction, not NaN)."""
     project = doc.project

@@ -1,4 +1,4 @@
-"""The "Wrinkle vectors" dock: technique-2 areas, vertex selection and Create (SPEC §5).
+"""The "Wrinkle vectors" dock: technique-2 areas, vertex selection and Create.
 
 A thin view: it shows the document's WDV areas and selection and turns every click into an undo
 command (studio/widgets/wdv_edits.py). Workflow: pick an area, its pose, select the vertices in
