@@ -172,3 +172,36 @@ def test_a_mirrored_uv_island_tilts_its_normals_the_same_way(gl_context):
     left_colour, right_colour = left.mean(axis=0), right.reshape(-1, 3).mean(axis=0)
     assert left_colour[1] > left_colour[0] + 30  # green up: the normals do tilt toward +Y
     np.testing.assert_allclose(right_colour, left_colour, atol=2.0)
+
+
+def test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike(gl_context):
+    """Technique 2 revealing a wrinkled map over both quads of the mirrored plane: the UV seam
+    down the middle is invisible (the columns either side match) and the mirrored half shows
+    the same wrinkle, not an inverted one."""
+    from studio.core.poses import KeyPose
+    from studio.core.wdv import WdvArea, WdvSetup
+
+    project = mirrored_plane()
+    project.textures.normal_neutral = flat_normal_map(8)
+    tilted = flat_normal_map(8)
+    tilted[...] = (128, 200, 210)  # the wrinkled map tilts toward +v
+    project.textures.normal_wrinkled = tilted
+    rest = project.mesh.rest
+    project.poses = [KeyPose("lift", rest + np.float32([0.0, 0.1, 0.0]))]
+    n = len(rest)
+    project.wdv = WdvSetup([WdvArea("all", "lift", np.tile([0.0, 1.0, 0.0], (n, 1)),
+                                    np.full(n, 0.1), cone_angle_deg=30.0)])
+    size = 120
+    with OffscreenStudio(project, size, size, ctx=gl_context) as studio:
+        studio.camera.yaw = studio.camera.pitch = 0.0
+        studio.camera.frame(np.array([-1.2, -1.2, 0]), np.array([1.2, 1.2, 0]))
+        plain = studio.render(RenderSettings(technique="none"), {"lift": 1.0}).astype(int)
+        shaded = studio.render(RenderSettings(technique="t2"), {"lift": 1.0}).astype(int)
+    rows = slice(size // 2 - 15, size // 2 + 15)
+    left = shaded[rows, size // 4 - 8:size // 4 + 8].reshape(-1, 3).mean(axis=0)
+    right = shaded[rows, 3 * size // 4 - 8:3 * size // 4 + 8].reshape(-1, 3).mean(axis=0)
+    assert np.abs(shaded - plain)[rows].max() > 8  # the wrinkled map shows
+    np.testing.assert_allclose(right, left, atol=2.0)  # the same on the mirrored half
+    centre = size // 2
+    seam = np.abs(shaded[rows, centre - 3] - shaded[rows, centre + 2]).max()
+    assert seam <= 3  # no seam
