@@ -11,7 +11,9 @@ from pathlib import Path
 import numpy as np
 
 from studio.cli import load_project_or_sample, parse_size, parse_vertices
+from studio.core import budgets, safe_io
 from studio.core.errors import StudioError
+from studio.core.input_checks import check_frame_pattern, finite_float
 from studio.core.project import Project
 from studio.core.relief import suggested_relief_depth
 
@@ -49,6 +51,7 @@ def parse_depth(text: str) -> float:
 
 def frame_path(pattern: str, frame: int) -> Path:
     """``out/frame_%04d.png`` with the frame number filled in."""
+    check_frame_pattern(pattern)
     try:
         return Path(pattern % frame)
     except (TypeError, ValueError):
@@ -72,6 +75,10 @@ def render_frames(studio, settings, project: Project, frames: Sequence[int]
         yield studio.render(settings, weights)
 
 
+VIDEO_MUXERS = {".mp4": "mp4", ".m4v": "mp4", ".mov": "mov", ".mkv": "matroska",
+                ".webm": "webm", ".avi": "avi"}  # the video's temporary file has no suffix
+
+
 def video_available() -> bool:
     return importlib.util.find_spec("imageio_ffmpeg") is not None
 
@@ -80,25 +87,46 @@ class AnimationWriter:
     """Frames one at a time into numbered PNGs, an animated GIF and/or an MP4."""
 
     def __init__(self, fps: float, pattern: str | None = None, gif: str | None = None,
-                 video: str | None = None, size: tuple[int, int] = (0, 0)) -> None:
-        self.fps, self.pattern = fps, pattern
+                 video: str | None = None, size: tuple[int, int] = (0, 0),
+                 step: int = 1, inputs: Sequence[str | Path | None] = ()) -> None:
+        """Check every destination (not an input, writable) before the first frame; the GIF
+        and the video go to temporary files renamed into place by :meth:`close` (``abort``
+        removes them), the GIF streamed frame by frame (``step`` frames apart in time)."""
+        from studio.core.gif_stream import GifStream
+
+        self.fps, self.pattern, self.inputs = fps, pattern, list(inputs)
         self.gif, self.video = (Path(gif) if gif else None), (Path(video) if video else None)
         self.written: list[Path] = []
-        self._gif_frames: list = []
         self._video = None
+        self._outputs: list = []  # open atomic_output contexts: (context, handle)
+        if pattern is not None:
+            safe_io.check_output(frame_path(pattern, 0), self.inputs, make_folders=True,
+                                 what="frame")
+        for path, what in ((self.gif, "GIF"), (self.video, "video")):
+            if path is not None:
+                safe_io.check_output(path, self.inputs, make_folders=True, what=what)
+        if self.video is not None and not video_available():
+            raise StudioError("--video needs imageio-ffmpeg (pip install imageio-ffmpeg)")
+        self._gif = None
+        if self.gif is not None:
+            self._gif = GifStream(self._open(self.gif, "GIF"), 1000.0 * step / fps)
         if self.video is not None:
-            if not video_available():
-                raise StudioError("--video needs imageio-ffmpeg (pip install imageio-ffmpeg)")
             import imageio_ffmpeg
 
-            self._mkdir(self.video)
+            handle = self._open(self.video, "video")
             w, h = size
-            self._video = imageio_ffmpeg.write_frames(str(self.video), (w, h), fps=fps,
-                                                      macro_block_size=1)
+            muxer = VIDEO_MUXERS.get(self.video.suffix.lower(), "mp4")
+            self._video = imageio_ffmpeg.write_frames(handle.name, (w, h), fps=fps,
+                                                      macro_block_size=1,
+                                                      output_params=["-f", muxer])
             self._video.send(None)
-        for path in (self.gif,):
-            if path is not None:
-                self._mkdir(path)
+
+    def _open(self, path: Path, what: str):
+        """A temporary file beside ``path`` that close() renames over it."""
+        context = safe_io.atomic_output(path, make_folders=True, what=what)
+        handle = context.__enter__()
+        self._outputs.append((context, handle))
+        return handle
 
     @staticmethod
     def _mkdir(path: Path) -> None:
@@ -113,35 +141,49 @@ class AnimationWriter:
 
         if self.pattern is not None:
             out = frame_path(self.pattern, frame)
-            if not self.written:
-                self._mkdir(out)
-            try:
-                Image.fromarray(image).save(out)
-            except OSError as exc:
-                raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
+            safe_io.check_output(out, self.inputs, make_folders=True, what="frame")
+            with safe_io.atomic_output(out, make_folders=True, what="image") as handle:
+                Image.fromarray(image).save(handle, format="PNG")
             self.written.append(out)
-        if self.gif is not None:
-            self._gif_frames.append(Image.fromarray(image).quantize(colors=255, dither=0))
+        if self._gif is not None:
+            self._gif.add(image)
         if self._video is not None:
             self._video.send(np.ascontiguousarray(image))
 
     def close(self, step: int = 1) -> None:
-        """Finish the GIF (one frame per rendered frame, ``step`` frames apart) and the video.
+        """Finish the GIF and the video and rename them into place.
 
         GIF writers merge consecutive identical frames (adding up their durations), so a held
-        pose plays for the right time but counts as one frame."""
+        pose plays for the right time but counts as one frame. (``step`` is given to the
+        constructor now: the GIF is written as the frames come.)"""
+        try:
+            if self._video is not None:
+                self._video.close()
+                self._video = None
+            if self._gif is not None:
+                self._gif.close()
+                self._gif = None
+        except BaseException:
+            self.abort()
+            raise
+        while self._outputs:
+            context, _ = self._outputs.pop(0)
+            context.__exit__(None, None, None)
+
+    def abort(self) -> None:
+        """Stop without writing the GIF or video (their temporary files are removed); frames
+        already written stay."""
+        import contextlib
+
         if self._video is not None:
-            self._video.close()
+            with contextlib.suppress(Exception):
+                self._video.close()
             self._video = None
-        if self.gif is not None and self._gif_frames:
-            first, *rest = self._gif_frames
-            try:
-                first.save(self.gif, save_all=True, append_images=rest, loop=0,
-                           duration=max(round(1000.0 * step / self.fps), 10), disposal=1)
-            except OSError as exc:
-                raise StudioError(f"cannot write the GIF: {exc.strerror or exc}",
-                                  self.gif) from None
-            self._gif_frames = []
+        self._gif = None
+        while self._outputs:
+            context, _ = self._outputs.pop()
+            with contextlib.suppress(StudioError):
+                context.__exit__(StudioError, StudioError("aborted"), None)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -150,7 +192,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("project", nargs="?", help="a .wrinkle project (default: the bundled sample)")
     p.add_argument("--technique", choices=("none", "t1", "t2", "strain", "flat"), default="t2")
     p.add_argument("--pose", default="neutral", help="key pose to show (default: neutral)")
-    p.add_argument("--weight", type=float, default=1.0, help="weight of that pose, 0..1")
+    p.add_argument("--weight", type=finite_float, default=1.0, help="weight of that pose, 0..1")
     p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (default 1280x720)")
     p.add_argument("--vertices", type=parse_vertices, help="resolution of the bundled sample")
     p.add_argument("--view", choices=("shaded", "heat", "normals", "uv"), default="shaded",
@@ -164,8 +206,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--relief-depth", type=parse_depth, metavar="D",
                    help="depth of the deepest wrinkle in model units (default: 1.4%% of the "
                         "face's size, 0.03 for the sample face)")
-    p.add_argument("--yaw", type=float, help="camera yaw in degrees (0 = front, 90 = profile)")
-    p.add_argument("--pitch", type=float, help="camera pitch in degrees")
+    p.add_argument("--yaw", type=finite_float,
+                   help="camera yaw in degrees (0 = front, 90 = profile)")
+    p.add_argument("--pitch", type=finite_float, help="camera pitch in degrees")
     p.add_argument("--frames", type=parse_frames, metavar="START:END[:STEP]",
                    help="render the timeline's animation, frames START up to (not including) END "
                         "at the project's frame rate; -o then names the files, e.g. "
@@ -189,17 +232,14 @@ def run_render(args: argparse.Namespace) -> int:
 
     if not 0.0 <= args.weight <= 1.0:
         raise StudioError(f"--weight {args.weight}: a pose weight is between 0 and 1")
+    out = safe_io.check_output(args.output, [args.project], make_folders=True, what="image")
     project = load_project_or_sample(args.project, args.vertices)
     weights = project.single_pose_weights(args.pose, args.weight)
     with OffscreenStudio(project, *args.size) as studio:
         _aim(studio, args)
         image = studio.render(_settings(args, project), weights)
-    out = Path(args.output)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        Image.fromarray(image).save(out)
-    except OSError as exc:
-        raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
+    with safe_io.atomic_output(out, make_folders=True, what="image") as handle:
+        Image.fromarray(image).save(handle, format="PNG")
     relief = "" if args.relief == "off" else f", relief {args.relief}"
     print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}{relief}, "
           f"pose {args.pose})")
@@ -223,6 +263,17 @@ def _aim(studio, args: argparse.Namespace) -> None:
         studio.camera.pitch = args.pitch
 
 
+def check_animation_budget(count: int, size: tuple[int, int], gif: bool,
+                           source: str | None = None) -> None:
+    """Refuse, before any rendering, an animation longer than the frame budget or a GIF whose
+    frames hold more pixels than the GIF budget (a 10⁹-frame timeline is a 22 GB GIF)."""
+    hint = "render fewer frames with --frames START:END[:STEP]"
+    budgets.FRAMES.check(count, "the animation", source, StudioError, hint)
+    if gif:
+        budgets.GIF_PIXELS.check(count * size[0] * size[1], "the GIF's pixels (frames × width "
+                                 "× height)", source, StudioError, f"{hint} or a smaller --size")
+
+
 def run_animation(args: argparse.Namespace,
                   progress: Callable[[int, int], None] | None = None) -> int:
     from studio.render.offscreen import OffscreenStudio
@@ -239,16 +290,23 @@ def run_animation(args: argparse.Namespace,
     project = load_project_or_sample(args.project, args.vertices)
     timeline = project.timeline
     start, end, step = args.frames or (timeline.start, timeline.end + 1, 1)
-    frames = list(range(start, end, step))
+    frames = range(start, end, step)
+    check_animation_budget(len(frames), args.size, args.gif is not None, args.project)
     animation_weights(project, frames[:1])  # no keys: say so before opening a context
-    writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size)
-    with OffscreenStudio(project, *args.size) as studio:
-        _aim(studio, args)
-        for i, (frame, image) in enumerate(zip(frames, render_frames(
-                studio, _settings(args, project), project, frames), strict=True)):
-            writer.add(frame, image)
-            if progress is not None:
-                progress(i + 1, len(frames))
+    writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size,
+                             step, [args.project])
+    try:
+        with OffscreenStudio(project, *args.size) as studio:
+            _aim(studio, args)
+            for i, frame in enumerate(frames):  # weights frame by frame: memory stays flat
+                image = studio.render(_settings(args, project),
+                                      animation_weights(project, [frame])[0])
+                writer.add(frame, image)
+                if progress is not None:
+                    progress(i + 1, len(frames))
+    except BaseException:
+        writer.abort()
+        raise
     writer.close(step)
     outputs = [str(p) for p in (writer.written[:1] if writer.written else [])]
     if writer.written:

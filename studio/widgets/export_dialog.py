@@ -26,7 +26,12 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from studio.commands.render import AnimationWriter, animation_weights, video_available
+from studio.commands.render import (
+    AnimationWriter,
+    animation_weights,
+    check_animation_budget,
+    video_available,
+)
 from studio.core.errors import StudioError
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
@@ -151,6 +156,8 @@ def export_animation(window, options: ExportOptions) -> bool:
     doc, viewport = window.doc, window.viewport
     project = doc.project
     frames = options.frames
+    check_animation_budget(len(frames), (options.width, options.height),
+                           options.kind == "gif")
     weights = animation_weights(project, frames)
     if options.kind == "frames":
         pattern, gif, video = str(options.path / "frame_%04d.png"), None, None
@@ -158,10 +165,11 @@ def export_animation(window, options: ExportOptions) -> bool:
         pattern = None
         gif = str(options.path) if options.kind == "gif" else None
         video = str(options.path) if options.kind == "video" else None
-    writer = AnimationWriter(project.timeline.fps, pattern, gif, video,
-                             (options.width, options.height))
     if viewport.ctx is None:
         raise StudioError("the viewport has no OpenGL context to render with")
+    writer = AnimationWriter(project.timeline.fps, pattern, gif, video,
+                             (options.width, options.height), options.step,
+                             [doc.path] if doc.path else [])
     settings = RenderSettings(technique=options.technique, light_dir=doc.view.light_dir())
     progress = QProgressDialog("Rendering the animation…", "Cancel", 0, len(frames), window)
     progress.setWindowTitle("Export Animation")
@@ -185,7 +193,11 @@ def export_animation(window, options: ExportOptions) -> bool:
                 image = studio.render(settings, weights[i])
             finally:
                 viewport.doneCurrent()
-            writer.add(frame, image)
+            try:
+                writer.add(frame, image)
+            except BaseException:
+                writer.abort()
+                raise
             progress.setLabelText(f"Rendering frame {frame} ({i + 1} of {len(frames)})…")
             progress.setValue(i + 1)
     finally:
@@ -194,6 +206,7 @@ def export_animation(window, options: ExportOptions) -> bool:
         viewport.doneCurrent()
         progress.close()
     if cancelled:
+        writer.abort()
         return False  # the frames written so far stay; the GIF or video is not written
     writer.close(options.step)
     return True
