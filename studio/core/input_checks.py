@@ -14,6 +14,8 @@ from typing import Any
 from studio.core.budgets import PATTERN_WIDTH
 from studio.core.errors import ProjectError, StudioError
 
+# Frame rates a timeline may have: 1e-300 fps made a frame last longer than any clock counts.
+MIN_FPS, MAX_FPS = 0.01, 1000.0
 CAMERA_NUMBERS = ("distance", "yaw", "pitch", "fov_y", "radius")
 _CONVERSION = re.compile(r"%(?P<flags>[#0 +-]*)(?P<width>\*|\d+)?(?:\.(?P<precision>\*|\d+))?"
                          r"(?P<kind>[%a-zA-Z]?)")
