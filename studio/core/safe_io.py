@@ -42,7 +42,7 @@ def _kind(mode: int) -> str:
     if stat.S_ISDIR(mode):
         return "a folder"
     if stat.S_ISFIFO(mode):
-        return "a pipe (FIFO)"
+        return "a FIFO pipe"
     if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
         return "a device"
     if stat.S_ISSOCK(mode):
@@ -65,7 +65,7 @@ def require_regular(path: str | Path, error: type[StudioError] = StudioError,
     except OSError as exc:
         raise error(f"cannot read the {what}: {exc.strerror or exc}", path) from None
     if not stat.S_ISREG(mode):
-        raise error(f"this is {_kind(mode)}, not a {what}", path)
+        raise error(f"not a file: this is {_kind(mode)}, not a {what}", path)
     return path
 
 
@@ -85,7 +85,7 @@ def read_regular(path: str | Path, limit: int, error: type[StudioError] = Studio
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            raise error(f"this is {_kind(info.st_mode)}, not a {what}", path)
+            raise error(f"not a file: this is {_kind(info.st_mode)}, not a {what}", path)
         if info.st_size > limit:
             how = f" (set {setting} to raise it)" if setting else ""
             raise error(f"the {what} is {info.st_size} bytes, more than the limit of {limit} "
