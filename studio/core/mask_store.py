@@ -56,6 +56,26 @@ class ImageBudget:
         amount = width * height * _CHANNELS.get(colour, 4) * (2 if depth == 16 else 1)
         self._charge(amount + (width * height * 4 if grey else 0), what)
 
+    def plan_masks(self, names: Sequence[Any], read: Callable[[str, str], bytes]) -> None:
+        """Charge all the areas' masks at once, from their PNG headers, before any is decoded:
+        one member shared by N areas costs one decode plus N float32 copies."""
+        projected = self.total
+        headers: dict[str, tuple[int, int, int, int]] = {}
+        for name in names:
+            if not isinstance(name, str):
+                continue
+            if name not in headers:
+                try:
+                    width, height, depth, colour, _ = png_header(read(name, "a mask"))
+                except (ValueError, ProjectError):
+                    continue  # reported with its area when it is read
+                headers[name] = (width, height, depth, colour)
+                projected += width * height * _CHANNELS.get(colour, 4) * (depth // 8 or 1)
+            width, height, *_ = headers[name]
+            projected += width * height * 4
+        TOTAL_IMAGE_BYTES.check(projected, f"the decoded images, with the {len(names)} "
+                                "influence masks,", self.path, ProjectError)
+
     def keep(self, name: str, image: Array) -> None:
         self.cache[name] = image
 

@@ -879,7 +879,10 @@ class _Loader:
 
     def influence(self, doc: dict[str, Any]) -> InfluenceSetup:
         areas = []
-        for i, entry in enumerate(self.field(doc, "areas", "list", "influence.")):
+        entries = self.field(doc, "areas", "list", "influence.")
+        self.images.plan_masks([e.get("mask") for e in entries if isinstance(e, dict)],
+                               self.read)
+        for i, entry in enumerate(entries):
             where = f"influence.areas[{i}]."
             entry = self.value(entry, "object", where[:-1])
             area_name = self.field(entry, "name", "name", where)

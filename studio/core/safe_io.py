@@ -120,7 +120,7 @@ def check_output(path: str | Path, inputs: Iterable[str | Path | None] = (),
     """
     path = check_path_text(path, error)
     for source in inputs:
-        if source is not None and _same_file(path, Path(source)):
+        if source is not None and _same_file(path, check_path_text(source, error)):
             raise error(f"the {what} would overwrite the input file {source}; choose another "
                         "name", path)
     try:
