@@ -77,7 +77,9 @@ def gltf_doc(folder: Path) -> tuple[dict, bytes]:
 def write_gltf(path: Path, doc: dict, binary: bytes | None = None) -> None:
     """A .gltf (JSON) file with the binary as a data URI, or a .glb."""
     if path.suffix == ".gltf":
-        if binary is not None and doc.get("buffers") and "uri" not in doc["buffers"][0]:
+        buffers = doc.get("buffers")
+        if (binary is not None and isinstance(buffers, list) and buffers
+                and isinstance(buffers[0], dict) and "uri" not in buffers[0]):
             doc["buffers"][0]["uri"] = ("data:application/octet-stream;base64,"
                                         + base64.b64encode(binary).decode())
         path.write_text(json.dumps(doc))
