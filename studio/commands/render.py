@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from studio.cli import load_project_or_sample, parse_size, parse_vertices
-from studio.core import budgets, safe_io
+from studio.core import atomic_write, budgets, safe_io
 from studio.core.errors import StudioError
 from studio.core.input_checks import check_frame_pattern, finite_float
 from studio.core.project import Project
@@ -123,7 +123,7 @@ class AnimationWriter:
 
     def _open(self, path: Path, what: str):
         """A temporary file beside ``path`` that close() renames over it."""
-        context = safe_io.atomic_output(path, make_folders=True, what=what)
+        context = atomic_write.atomic_output(path, make_folders=True, what=what)
         handle = context.__enter__()
         self._outputs.append((context, handle))
         return handle
@@ -142,7 +142,7 @@ class AnimationWriter:
         if self.pattern is not None:
             out = frame_path(self.pattern, frame)
             safe_io.check_output(out, self.inputs, make_folders=True, what="frame")
-            with safe_io.atomic_output(out, make_folders=True, what="image") as handle:
+            with atomic_write.atomic_output(out, make_folders=True, what="image") as handle:
                 Image.fromarray(image).save(handle, format="PNG")
             self.written.append(out)
         if self._gif is not None:
@@ -238,7 +238,7 @@ def run_render(args: argparse.Namespace) -> int:
     with OffscreenStudio(project, *args.size) as studio:
         _aim(studio, args)
         image = studio.render(_settings(args, project), weights)
-    with safe_io.atomic_output(out, make_folders=True, what="image") as handle:
+    with atomic_write.atomic_output(out, make_folders=True, what="image") as handle:
         Image.fromarray(image).save(handle, format="PNG")
     relief = "" if args.relief == "off" else f", relief {args.relief}"
     print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}{relief}, "

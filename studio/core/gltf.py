@@ -493,6 +493,6 @@ def save_gltf(project: Project, path: str | Path) -> None:
     total = 12 + 8 + len(text) + 8 + len(blob)
     data = (struct.pack("<4sII", MAGIC, 2, total) + struct.pack("<II", len(text), JSON_CHUNK)
             + text + struct.pack("<II", len(blob), BIN_CHUNK) + blob)
-    from studio.core.safe_io import write_atomic
+    from studio.core.atomic_write import write_atomic
 
     write_atomic(path, data, MeshError, what="file")

@@ -85,6 +85,6 @@ def load_grey(path: str | Path) -> Array:
 
 
 def write_png(path: str | Path, image: Array) -> None:
-    from studio.core.safe_io import write_atomic
+    from studio.core.atomic_write import write_atomic
 
     write_atomic(path, encode_png(image), ImageError, what="image")

@@ -9,21 +9,17 @@ overwrite a file, each in a different place. Here:
   at most a stated number of bytes;
 - :func:`check_output` checks a destination before any work starts: not a folder, not one of the
   command's inputs, in a folder that exists (or can be made) and can be written;
-- :func:`atomic_output` writes through a locked temporary file beside the target that is renamed
-  over it only once complete, so an interrupted write leaves the old file (or none), never a
-  broken one. It shares the project file's temporary-file helpers (locking, removal of the
-  leftovers of a killed run, permissions, folder fsync), so every writer behaves the same.
+- writing all or nothing is :mod:`studio.core.atomic_write`'s (it builds on the project file's
+  temporary-file helpers, and the project file uses this module, so the two stay apart).
 """
 
 from __future__ import annotations
 
-import contextlib
 import errno
 import os
 import stat
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from pathlib import Path
-from typing import IO
 
 from studio.core.errors import StudioError
 
@@ -154,54 +150,11 @@ def make_folder(folder: str | Path, error: type[StudioError] = StudioError) -> N
 
 
 def _reason(exc: OSError, where: str) -> str:
-    from studio.core.project_file import _os_reason
-
-    return _os_reason(exc, where)
-
-
-@contextlib.contextmanager
-def atomic_output(path: str | Path, error: type[StudioError] = StudioError,
-                  make_folders: bool = False, what: str = "file") -> Iterator[IO[bytes]]:
-    """Write ``path`` all or nothing: yields an open, locked temporary file beside it.
-
-    The caller writes into the handle (or, for a library that wants a name, to
-    ``handle.name``); on a clean exit it is flushed, fsynced, given the old file's permissions
-    and renamed over ``path``. On any exception (Ctrl+C included) it is removed and ``path`` is
-    untouched; a run killed outright leaves only the hidden, locked temporary file, which the
-    next write of the same target sweeps away.
-    """
-    from studio.core import project_file as pf  # its temp-file helpers; imported late (cycle)
-
-    path = check_path_text(path, error)
-    if make_folders:
-        make_folder(path.absolute().parent, error)
-    target = Path(os.path.realpath(path))
-    folder = target.parent
-    pf._remove_stale_temps(folder, target.name)
-    try:
-        handle = pf._locked_temp(folder, target.name)
-    except OSError as exc:
-        raise error(f"cannot write the {what}: {_reason(exc, f'the folder {folder}')}",
-                    path) from None
-    try:
-        with handle:
-            yield handle
-            handle.flush()
-            os.fsync(handle.fileno())
-            pf._copy_mode(handle.name, target)
-        os.replace(handle.name, target)
-    except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(handle.name)
-        if isinstance(exc, OSError):
-            reason = "the disk is full" if exc.errno == errno.ENOSPC else _reason(exc, str(path))
-            raise error(f"cannot write the {what}: {reason}", path) from None
-        raise
-    pf._fsync_folder(folder)
-
-
-def write_atomic(path: str | Path, data: bytes, error: type[StudioError] = StudioError,
-                 make_folders: bool = False, what: str = "file") -> None:
-    """``path.write_bytes(data)``, all or nothing (see :func:`atomic_output`)."""
-    with atomic_output(path, error, make_folders, what) as handle:
-        handle.write(data)
+    """The operating system's words for a refusal (project_file's fuller phrases are not
+    imported here: it imports this module)."""
+    reasons = {errno.ENOTDIR: f"a part of {where} is not a folder",
+               errno.EACCES: f"permission denied for {where}",
+               errno.EPERM: f"permission denied for {where}",
+               errno.ENAMETOOLONG: f"the name {where} is too long",
+               errno.ELOOP: f"{where} is a loop of symbolic links"}
+    return reasons.get(exc.errno, f"{exc.strerror or exc} ({where})")

@@ -377,8 +377,8 @@ class MainWindow(QMainWindow):
     def grab_when_rendered(self, out: Path, on_done) -> None:
         """Save a screenshot of the whole window once the viewport has drawn (docs, CI)."""
         def grab() -> None:
+            from studio.core.atomic_write import atomic_output
             from studio.core.errors import StudioError
-            from studio.core.safe_io import atomic_output
 
             image = self.grab()
             try:  # a temporary file renamed into place: never a half-written screenshot
