@@ -52,6 +52,10 @@ def run_gui(args: argparse.Namespace) -> int:
 
     if args.project is not None and not Path(args.project).is_file():
         raise StudioError("no such project file", args.project)
+    if args.screenshot:
+        from studio.core.safe_io import check_output
+
+        check_output(args.screenshot, [args.project], what="screenshot")
     return run(args.project, args.screenshot)
 
 

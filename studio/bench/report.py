@@ -32,11 +32,16 @@ def table(results: Sequence[Result]) -> str:
 
 
 def write_csv(results: Sequence[Result], path: Path) -> None:
-    with path.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS, extrasaction="ignore")
-        writer.writeheader()
-        for r in results:
-            writer.writerow(r.row())
+    import io
+
+    from studio.core.atomic_write import write_atomic
+
+    text = io.StringIO(newline="")
+    writer = csv.DictWriter(text, fieldnames=COLUMNS, extrasaction="ignore")
+    writer.writeheader()
+    for r in results:
+        writer.writerow(r.row())
+    write_atomic(path, text.getvalue().encode(), what="results")
 
 
 def _font() -> ImageFont.ImageFont | ImageFont.FreeTypeFont:
@@ -104,7 +109,10 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
         ly = top + 14 + 16 * k
         draw.line((w - right - 230, ly, w - right - 212, ly), fill=colour, width=3)
         draw.text((w - right - 206, ly - 7), name, fill=colour)
-    img.save(path)
+    from studio.core.atomic_write import atomic_output
+
+    with atomic_output(path, what="plot") as handle:
+        img.save(handle, format="PNG")
 
 
 def write_plots(results: Sequence[Result], out: Path) -> list[Path]:

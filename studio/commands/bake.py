@@ -37,13 +37,21 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.bake import bake_normal_map, default_max_distance
+    from studio.core.bake import bake_normal_map, check_hits, default_max_distance
     from studio.core.images import write_png
     from studio.core.meshio import load_mesh
     from studio.core.project_file import load_project, save_project
+    from studio.core.safe_io import check_output
 
     if not args.png and not args.output:
         raise StudioError("say where the map goes: --png OUT.png and/or -o OUT.wrinkle")
+    inputs = [args.project, args.high]
+    if args.png:
+        check_output(args.png, inputs, what="map")
+    if args.output:
+        check_output(args.output, inputs, what="project")
+    if args.png and args.output and Path(args.png).absolute() == Path(args.output).absolute():
+        raise StudioError("--png and -o name the same file", args.png)
     project = load_project(Path(args.project))
     textures = project.textures
     name = args.map or textures.wrinkle_map_names[0]
@@ -54,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
     distance = default_max_distance(project.mesh) if args.distance is None else args.distance
     result = bake_normal_map(project.mesh, load_mesh(args.high), args.size or current.shape[1],
                              distance, bits=16 if current.dtype.itemsize == 2 else 8)
+    check_hits(result, project.mesh, distance, args.high)
     textures.set_wrinkle_map(name, result.image)
     if args.png:
         write_png(Path(args.png), result.image)

@@ -20,7 +20,12 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.export import export_folder
     from studio.core.gltf import save_gltf
     from studio.core.project_file import load_project
+    from studio.core.safe_io import check_output
 
+    if args.gltf:
+        check_output(args.gltf, [args.project], what="glTF file")
+    else:
+        check_output(args.folder, [args.project], make_folders=True, what="folder")
     project = load_project(Path(args.project))
     if args.gltf:
         save_gltf(project, Path(args.gltf))

@@ -50,9 +50,13 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.face_frame import face_frame, face_locator, parse_axis
     from studio.core.normalmap import flip_green
     from studio.core.project_file import save_project
+    from studio.core.safe_io import check_output
 
     if args.up is not None:
         parse_axis(args.up)  # a bad axis fails before any work
+    check_output(args.output, [args.mesh, args.gltf, args.diffuse, args.normal,
+                               args.wrinkle_normal, *(path for _, path in args.pose)],
+                 what="project")
     names = [name for name, _ in args.pose]
     if len(set(names)) != len(names):
         raise StudioError("two --pose options have the same name")

@@ -18,6 +18,12 @@ def parse_size(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(f"'{text}' is not a size like 1280x720") from None
     if not (1 <= w <= 16384 and 1 <= h <= 16384):
         raise argparse.ArgumentTypeError(f"'{text}': width and height must be 1 to 16384")
+    from studio.core.budgets import RENDER_PIXELS
+
+    try:  # colour and depth, multisampled: 16384x16384 is over 9 GB of framebuffers
+        RENDER_PIXELS.check(w * h, f"'{text}'", error=StudioError, hint="choose a smaller size")
+    except StudioError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
     return w, h
 
 

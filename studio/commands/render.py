@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Callable
-from pathlib import Path
 
 from studio.commands.options import load_project_or_sample, parse_size, parse_vertices
+from studio.core import atomic_write, safe_io
 from studio.core.errors import StudioError
 from studio.core.face_frame import aim, parse_axis
+from studio.core.input_checks import finite_float
 from studio.core.project import Project
 from studio.core.relief import suggested_relief_depth
 from studio.core.techniques import TECHNIQUES
@@ -17,8 +18,8 @@ from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.render.animation import (
     AnimationWriter,
     animation_weights,
+    check_animation_budget,
     frame_path,
-    render_frames,
     video_available,
 )
 
@@ -61,7 +62,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--technique", choices=tuple(TECHNIQUES), default="t2",
                    help="; ".join(f"{t.key}: {t.label}" for t in TECHNIQUES.values()))
     p.add_argument("--pose", default="neutral", help="key pose to show (default: neutral)")
-    p.add_argument("--weight", type=float, default=1.0, help="weight of that pose, 0..1")
+    p.add_argument("--weight", type=finite_float, default=1.0, help="weight of that pose, 0..1")
     p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (default 1280x720)")
     p.add_argument("--vertices", type=parse_vertices, help="resolution of the bundled sample")
     p.add_argument("--view", choices=DEBUG_VIEWS, default="shaded",
@@ -81,8 +82,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--up", type=parse_up, metavar="AXIS",
                    help="the head's up axis (x, y, z, -x, -y, -z) when the detected one is "
                         "wrong")
-    p.add_argument("--yaw", type=float, help="camera yaw in degrees (0 = front, 90 = profile)")
-    p.add_argument("--pitch", type=float, help="camera pitch in degrees")
+    p.add_argument("--yaw", type=finite_float,
+                   help="camera yaw in degrees (0 = front, 90 = profile)")
+    p.add_argument("--pitch", type=finite_float, help="camera pitch in degrees")
     p.add_argument("--frames", type=parse_frames, metavar="START:END[:STEP]",
                    help="render the timeline's animation, frames START up to (not including) END "
                         "at the project's frame rate; -o then names the files, e.g. "
@@ -106,17 +108,14 @@ def run_render(args: argparse.Namespace) -> int:
 
     if not 0.0 <= args.weight <= 1.0:
         raise StudioError(f"--weight {args.weight}: a pose weight is between 0 and 1")
+    out = safe_io.check_output(args.output, [args.project], make_folders=True, what="image")
     project = load_project_or_sample(args.project, args.vertices)
     weights = project.single_pose_weights(args.pose, args.weight)
     with OffscreenStudio(project, *args.size) as studio:
         _aim(studio, args, project)
         image = studio.render(_settings(args, project), weights)
-    out = Path(args.output)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        Image.fromarray(image).save(out)
-    except OSError as exc:
-        raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
+    with atomic_write.atomic_output(out, make_folders=True, what="image") as handle:
+        Image.fromarray(image).save(handle, format="PNG")
     relief = "" if args.relief == "off" else f", relief {args.relief}"
     print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}{relief}, "
           f"pose {args.pose})")
@@ -173,16 +172,23 @@ def run_animation(args: argparse.Namespace,
     project = load_project_or_sample(args.project, args.vertices)
     timeline = project.timeline
     start, end, step = args.frames or (timeline.start, timeline.end + 1, 1)
-    frames = list(range(start, end, step))
+    frames = range(start, end, step)
+    check_animation_budget(len(frames), args.size, args.gif is not None, args.project)
     animation_weights(project, frames[:1])  # no keys: say so before opening a context
-    writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size)
-    with OffscreenStudio(project, *args.size) as studio:
-        _aim(studio, args, project)
-        for i, (frame, image) in enumerate(zip(frames, render_frames(
-                studio, _settings(args, project), project, frames), strict=True)):
-            writer.add(frame, image)
-            if progress is not None:
-                progress(i + 1, len(frames))
+    writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size,
+                             step, [args.project])
+    try:
+        with OffscreenStudio(project, *args.size) as studio:
+            _aim(studio, args, project)
+            for i, frame in enumerate(frames):  # weights frame by frame: memory stays flat
+                image = studio.render(_settings(args, project),
+                                      animation_weights(project, [frame])[0])
+                writer.add(frame, image)
+                if progress is not None:
+                    progress(i + 1, len(frames))
+    except BaseException:
+        writer.abort()
+        raise
     writer.close(step)
     outputs = [str(p) for p in (writer.written[:1] if writer.written else [])]
     if writer.written:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from studio.commands.options import parse_vertices
 
@@ -18,9 +17,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from studio.core.project_file import save_project
+    from studio.core.safe_io import check_output
     from studio.core.sample import make_sample
 
-    out = Path(args.output)
+    out = check_output(args.output, what="project")
     save_project(make_sample(args.vertices), out)
     print(f"wrote {out} (sample face, {args.vertices} vertices)")
     return 0

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -404,3 +405,26 @@ def _pad(normals: Array, covered: Array, texels: int) -> Array:
         out[grow] = _unit(total[grow])
         filled |= grow
     return out
+
+
+MIN_HIT_FRACTION = 0.5  # below this share of the face's texels meeting the high mesh: refused
+
+
+def check_hits(result: BakeResult, low: FaceMesh, distance: float,
+               source: str | Path | None = None, minimum: float = MIN_HIT_FRACTION) -> None:
+    """Raise MeshError naming the high mesh when too few of the face's texels met it.
+
+    Why: a mesh on the same UVs but elsewhere, or of another face, still "bakes" (every missed
+    texel falls back to the normal at the same UV) into a map that means nothing. The threshold
+    and the ray distance are stated relative to the face's size, never in model units.
+    """
+    share = result.hit_fraction
+    if share >= minimum:
+        return
+    lo, hi = low.bounds()
+    diagonal = float(np.linalg.norm(hi - lo)) or 1.0
+    raise MeshError(
+        f"only {share:.0%} of the face's texels found the high-polygon mesh within "
+        f"{distance / diagonal:.1%} of the face's size along their normals (at least "
+        f"{minimum:.0%} must): it is not the same face, or not in the same place and scale; "
+        "fix it in the modelling tool, or give a larger --distance", source)

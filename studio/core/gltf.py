@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from studio.core.budgets import FILE_BYTES, MESH_VERTICES, POSES, check_json_depth
 from studio.core.errors import MeshError
 from studio.core.images import decode_image
 from studio.core.influence import InfluenceArea, InfluenceSetup
@@ -29,6 +30,7 @@ from studio.core.meshio import mesh_from_render_vertices
 from studio.core.png import encode_png
 from studio.core.poses import KeyPose
 from studio.core.project import Project
+from studio.core.safe_io import read_regular
 from studio.core.textures import FaceTextures, flat_normal_map, plain_diffuse
 from studio.core.timeline import Timeline
 from studio.core.uv_tiles import TileLayout, UvTiles
@@ -43,27 +45,50 @@ EXTRAS_KEY = "wrinkleStudio"
 
 
 # --- reading ---------------------------------------------------------------------------------
+def _whole(value: object) -> bool:
+    """A JSON whole number of 0 or more (not a bool, float or string)."""
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _list(g: _Gltf, obj: dict, key: str) -> list:
+    value = obj.get(key, [])
+    if not isinstance(value, list):
+        raise MeshError(f"'{key}' is not a JSON list", g.path)
+    return value
+
+
+def _item(g: _Gltf, key: str, index: object, items: list | None = None) -> dict:
+    """``doc[key][index]``, refusing an index that is not a whole number in range (Python
+    would read a negative one from the end) and an entry that is not a JSON object."""
+    items = _list(g, g.doc, key) if items is None else items
+    if not _whole(index) or index >= len(items):
+        raise MeshError(f"a reference to {key}[{index!r}], which does not exist (the file has "
+                        f"{len(items)})", g.path)
+    item = items[index]
+    if items is not g.buffers and not isinstance(item, dict):
+        raise MeshError(f"{key}[{index}] is not a JSON object", g.path)
+    return item
+
+
 class _Gltf:
     """A parsed glTF document and its buffers, with typed accessors."""
 
     def __init__(self, path: Path) -> None:
         self.path = path
-        try:
-            data = path.read_bytes()
-        except OSError as exc:
-            raise MeshError(f"cannot read the file: {exc.strerror or exc}", path) from None
+        data = read_regular(path, FILE_BYTES.value, MeshError, "glTF file", FILE_BYTES.setting)
         if data[:4] == MAGIC:
             self.doc, binary = self._parse_glb(data)
         else:
+            check_json_depth(data, "the glTF JSON", path, MeshError)
             try:
                 self.doc = json.loads(data.decode("utf-8"))
             except (UnicodeDecodeError, json.JSONDecodeError) as exc:
                 raise MeshError(f"not a glTF file ({exc})", path) from None
             binary = None
-        if not isinstance(self.doc, dict) or not str(self.doc.get("asset", {}).get("version",
-                                                                                    "")).startswith("2"):
+        asset = self.doc.get("asset") if isinstance(self.doc, dict) else None
+        if not isinstance(asset, dict) or not str(asset.get("version", "")).startswith("2"):
             raise MeshError("not a glTF 2.0 file (asset.version is not 2.x)", path)
-        self.buffers = [self._buffer(b, binary) for b in self.doc.get("buffers", [])]
+        self.buffers = [self._buffer(b, binary) for b in _list(self, self.doc, "buffers")]
 
     def _parse_glb(self, data: bytes) -> tuple[dict, bytes | None]:
         if len(data) < 20:
@@ -81,6 +106,7 @@ class _Gltf:
             if len(chunk) != size:
                 raise MeshError("a GLB chunk is truncated", self.path)
             if kind == JSON_CHUNK and doc is None:
+                check_json_depth(chunk, "the GLB's JSON", self.path, MeshError)
                 try:
                     doc = json.loads(chunk.decode("utf-8"))
                 except (UnicodeDecodeError, json.JSONDecodeError) as exc:
@@ -93,11 +119,23 @@ class _Gltf:
         return doc, binary
 
     def _buffer(self, spec: dict, binary: bytes | None) -> bytes:
+        data = self._buffer_data(spec, binary)
+        length = spec.get("byteLength", len(data)) if isinstance(spec, dict) else 0
+        if not _whole(length) or length > len(data):
+            raise MeshError(f"a buffer declares {length!r} bytes but holds {len(data)}",
+                            self.path)
+        return data
+
+    def _buffer_data(self, spec: dict, binary: bytes | None) -> bytes:
+        if not isinstance(spec, dict):
+            raise MeshError("a buffer is not a JSON object", self.path)
         uri = spec.get("uri")
         if uri is None:
             if binary is None:
                 raise MeshError("a buffer has no data", self.path)
             return binary
+        if not isinstance(uri, str):
+            raise MeshError(f"a buffer's uri is not text: {uri!r}", self.path)
         if uri.startswith("data:"):
             try:
                 return base64.b64decode(uri.split(",", 1)[1])
@@ -106,41 +144,76 @@ class _Gltf:
         target = (self.path.parent / uri).resolve()
         if self.path.parent.resolve() not in target.parents:
             raise MeshError(f"a buffer refers outside the file's folder: '{uri}'", self.path)
-        try:
-            return target.read_bytes()
-        except OSError as exc:
-            raise MeshError(f"cannot read the buffer '{uri}': {exc.strerror}", self.path) from None
+        return read_regular(target, FILE_BYTES.value, MeshError, f"buffer '{uri}' of the glTF",
+                            FILE_BYTES.setting)
 
-    def _view(self, index: int) -> tuple[bytes, int, int | None]:
-        view = self.doc["bufferViews"][index]
-        buffer = self.buffers[view["buffer"]]
-        start = view.get("byteOffset", 0)
-        end = start + view["byteLength"]
+    def _view(self, index: int) -> tuple[memoryview, int, int | None]:
+        view = _item(self, "bufferViews", index)
+        buffer = _item(self, "buffers", view.get("buffer"), self.buffers)
+        start, length = view.get("byteOffset", 0), view.get("byteLength")
+        stride = view.get("byteStride")
+        if not (_whole(start) and _whole(length)) or (
+                stride is not None and not (_whole(stride) and 4 <= stride <= 252)):
+            raise MeshError(f"buffer view {index} has an invalid byteOffset, byteLength or "
+                            "byteStride", self.path)
+        end = start + length
         if end > len(buffer):
-            raise MeshError("a buffer view reaches past its buffer's end", self.path)
-        return buffer, start, view.get("byteStride")
+            raise MeshError(f"buffer view {index} reaches past its buffer's end", self.path)
+        return memoryview(buffer)[:end], start, stride  # no copy of the buffer
 
     def accessor(self, index: int) -> Array:
         try:
-            acc = self.doc["accessors"][index]
+            acc = _item(self, "accessors", index)
             if "sparse" in acc:
                 raise MeshError("sparse accessors are not supported; re-export without them",
                                 self.path)
+            if acc.get("componentType") not in COMPONENTS or acc.get("type") not in WIDTH:
+                raise MeshError(f"accessor {index} has an unknown component type "
+                                f"{acc.get('componentType')!r} or type {acc.get('type')!r}",
+                                self.path)
             dtype = np.dtype(COMPONENTS[acc["componentType"]])
-            width, count = WIDTH[acc["type"]], acc["count"]
+            width, count = WIDTH[acc["type"]], acc.get("count")
+            offset = acc.get("byteOffset", 0)
+            if not (_whole(count) and count >= 1 and _whole(offset)):
+                raise MeshError(f"accessor {index} has an invalid count or byteOffset",
+                                self.path)
+            MESH_VERTICES.check(count // 3 if acc["type"] == "SCALAR" else count,
+                                f"accessor {index}", self.path, MeshError)
+            if "bufferView" not in acc:
+                raise MeshError(f"accessor {index} has no bufferView (no data)", self.path)
             buffer, start, stride = self._view(acc["bufferView"])
-            start += acc.get("byteOffset", 0)
+            start += offset
             item = dtype.itemsize * width
             stride = stride or item
+            if stride < item or start % dtype.itemsize or stride % dtype.itemsize:
+                raise MeshError(f"accessor {index}'s elements overlap or are misaligned",
+                                self.path)
             if start + stride * (count - 1) + item > len(buffer):
-                raise MeshError(f"accessor {index} reaches past its buffer's end", self.path)
+                raise MeshError(f"accessor {index} reaches past its buffer view's end",
+                                self.path)
             raw = np.ndarray((count, width), dtype, buffer, start, (stride, dtype.itemsize))
         except (KeyError, IndexError, TypeError, ValueError) as exc:
             raise MeshError(f"accessor {index} is malformed ({exc})", self.path) from None
         values = raw.astype(np.float64)
         if acc.get("normalized") and dtype.kind in "iu":
             values /= float(np.iinfo(dtype).max)
+        if not np.isfinite(values).all():
+            raise MeshError(f"accessor {index} holds non-finite numbers (NaN or infinity)",
+                            self.path)
         return values
+
+    def typed(self, index: int, kinds: tuple[str, ...], what: str,
+              integer: bool = False) -> Array:
+        """An accessor that must have one of ``kinds`` (and integer components): a position
+        stored as a SCALAR, or indices as floats, is refused naming ``what``."""
+        acc = _item(self, "accessors", index)
+        if acc.get("type") not in kinds or (integer and acc.get("componentType") not in (
+                5121, 5123, 5125)):
+            raise MeshError(f"{what} (accessor {index}) is {acc.get('type')!r} of component "
+                            f"type {acc.get('componentType')!r}, expected "
+                            f"{' or '.join(kinds)}{' of unsigned integers' if integer else ''}",
+                            self.path)
+        return self.accessor(index)
 
     def image(self, index: int) -> Array:
         try:
@@ -148,7 +221,7 @@ class _Gltf:
             if "bufferView" in spec:
                 buffer, start, _ = self._view(spec["bufferView"])
                 length = self.doc["bufferViews"][spec["bufferView"]]["byteLength"]
-                data = buffer[start:start + length]
+                data = bytes(buffer[start:start + length])
             else:
                 data = self._buffer({"uri": spec["uri"]}, None)
         except (KeyError, IndexError, TypeError) as exc:
@@ -183,14 +256,32 @@ def _first_occurrence(weld: Array, n_welded: int) -> Array:
 def load_gltf(path: str | Path) -> Project:
     """A project from a glTF 2.0 file (.glb or .gltf)."""
     path = Path(path)
+    try:
+        return _load_gltf(path)
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
+            RecursionError, struct.error) as exc:  # a structure no check above foresaw
+        raise MeshError(f"the glTF file is malformed ({type(exc).__name__}: {exc})",
+                        path) from None
+
+
+def _load_gltf(path: Path) -> Project:
     g = _Gltf(path)
     mesh_spec, prim = _triangle_primitive(g)
     attrs = prim["attributes"]
-    positions = g.accessor(attrs["POSITION"])
-    uvs = g.accessor(attrs["TEXCOORD_0"])[:, :2] * [1.0, -1.0] + [0.0, 1.0]  # glTF v points down
+    positions = g.typed(attrs["POSITION"], ("VEC3",), "POSITION")
+    uvs = g.typed(attrs["TEXCOORD_0"], ("VEC2",), "TEXCOORD_0")
+    if len(uvs) != len(positions):
+        raise MeshError(f"TEXCOORD_0 has {len(uvs)} values, POSITION has {len(positions)}", path)
+    uvs = uvs[:, :2] * [1.0, -1.0] + [0.0, 1.0]  # glTF v points down
     if "indices" in prim:
-        triangles = g.accessor(prim["indices"]).astype(np.int64).reshape(-1, 3)
+        indices = g.typed(prim["indices"], ("SCALAR",), "the indices", integer=True)
+        if len(indices) % 3 or indices.max() >= len(positions):
+            raise MeshError(f"the indices are not triangles over the {len(positions)} vertices "
+                            "(a count not divisible by 3, or a vertex that does not exist)", path)
+        triangles = indices.astype(np.int64).reshape(-1, 3)
     else:
+        if len(positions) % 3:
+            raise MeshError(f"{len(positions)} vertices without indices are not triangles", path)
         triangles = np.arange(len(positions)).reshape(-1, 3)
     if "_WELD" in attrs:  # written by the studio: keep its welded numbering exactly
         mesh = _mesh_with_weld(g, positions, triangles, uvs, g.accessor(attrs["_WELD"])[:, 0])
@@ -199,13 +290,18 @@ def load_gltf(path: str | Path) -> Project:
     first = _first_occurrence(mesh.weld, mesh.n_welded)
     names = (mesh_spec.get("extras", {}).get("targetNames")
              or prim.get("extras", {}).get("targetNames") or [])
+    targets = prim.get("targets", [])
+    POSES.check(len(targets), "the morph target count", path, MeshError)
     poses = []
-    for i, target in enumerate(prim.get("targets", [])):
+    for i, target in enumerate(targets):
         if "POSITION" not in target:
             continue
-        moved = positions + g.accessor(target["POSITION"])
         name = str(names[i]) if i < len(names) else f"target_{i}"
-        poses.append(KeyPose(name, moved[first]))
+        offsets = g.typed(target["POSITION"], ("VEC3",), f"morph target '{name}'")
+        if len(offsets) != len(positions):  # numpy would broadcast a single offset silently
+            raise MeshError(f"morph target '{name}' moves {len(offsets)} vertices, the mesh has "
+                            f"{len(positions)}", path)
+        poses.append(KeyPose(name, (positions + offsets)[first]))
     material = _material(g, prim)
     pbr = material.get("pbrMetallicRoughness", {})
     extras = g.doc.get("extras", {}).get(EXTRAS_KEY, {})
@@ -398,7 +494,6 @@ def save_gltf(project: Project, path: str | Path) -> None:
     total = 12 + 8 + len(text) + 8 + len(blob)
     data = (struct.pack("<4sII", MAGIC, 2, total) + struct.pack("<II", len(text), JSON_CHUNK)
             + text + struct.pack("<II", len(blob), BIN_CHUNK) + blob)
-    try:
-        path.write_bytes(data)
-    except OSError as exc:
-        raise MeshError(f"cannot write the file: {exc.strerror or exc}", path) from None
+    from studio.core.atomic_write import write_atomic
+
+    write_atomic(path, data, MeshError, what="file")

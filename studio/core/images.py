@@ -13,7 +13,7 @@ import numpy as np
 from PIL import Image, UnidentifiedImageError
 
 from studio.core.errors import ImageError
-from studio.core.png import SIGNATURE, PngError, encode_png, read_png
+from studio.core.png import SIGNATURE, PngError, encode_png, png_header, read_png
 
 Array = np.ndarray
 MAX_PIXELS = 16384 * 16384
@@ -21,22 +21,27 @@ MAX_PIXELS = 16384 * 16384
 
 def read_image(path: str | Path) -> Array:
     """Pixels as stored: (H, W) or (H, W, C), uint8 or uint16."""
+    from studio.core.budgets import FILE_BYTES
+    from studio.core.safe_io import read_regular
+
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise ImageError(f"cannot read the image: {exc.strerror or exc}", path) from None
+    data = read_regular(path, FILE_BYTES.value, ImageError, "image", FILE_BYTES.setting)
     return decode_image(data, path)
 
 
 def decode_image(data: bytes, source: str | Path) -> Array:
     """Pixels of an encoded image (PNG exactly, other formats through Pillow); ``source`` names
     where the bytes came from in error messages."""
+    from studio.core.budgets import IMAGE_PIXELS
+
     try:
         if data.startswith(SIGNATURE):
+            width, height, *_ = png_header(data)
+            IMAGE_PIXELS.check(width * height, "the image", source, ImageError)
             return read_png(data, max_bytes=MAX_PIXELS * 8)
         Image.MAX_IMAGE_PIXELS = MAX_PIXELS
         with Image.open(io.BytesIO(data)) as img:
+            IMAGE_PIXELS.check(img.width * img.height, "the image", source, ImageError)
             if img.mode in ("I;16", "I;16B", "I;16L"):
                 return np.asarray(img, dtype=np.uint16)
             if img.mode in ("I", "F"):
@@ -80,8 +85,6 @@ def load_grey(path: str | Path) -> Array:
 
 
 def write_png(path: str | Path, image: Array) -> None:
-    path = Path(path)
-    try:
-        path.write_bytes(encode_png(image))
-    except OSError as exc:
-        raise ImageError(f"cannot write the image: {exc.strerror or exc}", path) from None
+    from studio.core.atomic_write import write_atomic
+
+    write_atomic(path, encode_png(image), ImageError, what="image")

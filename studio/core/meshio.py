@@ -243,17 +243,20 @@ def save_obj(path: str | Path, mesh: FaceMesh, positions: Array | KeyPose | None
 
 
 def _check_readable(path: Path) -> None:
+    from studio.core.budgets import FILE_BYTES
+    from studio.core.safe_io import require_regular
+
     if not path.exists():
         raise MeshError("file not found", path)
-    if not path.is_file():
-        raise MeshError("not a file", path)
+    require_regular(path, MeshError, "mesh file")  # a FIFO or device would hang the reader
+    FILE_BYTES.check(path.stat().st_size, "the mesh file", path, MeshError)
 
 
 def _read_text(path: Path) -> str:
-    try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise MeshError(f"cannot read the file ({exc.strerror or exc})", path) from exc
+    from studio.core.budgets import FILE_BYTES
+    from studio.core.safe_io import read_regular
+
+    raw = read_regular(path, FILE_BYTES.value, MeshError, "mesh file", FILE_BYTES.setting)
     if not raw.strip():
         raise MeshError("the file is empty", path)
     if b"\x00" in raw[:4096]:
@@ -505,6 +508,7 @@ def _fan_triangles(sizes: Array) -> Array:
 
 def _mesh_from_obj(path: Path, data: _ObjData) -> FaceMesh:
     """Split render vertices per distinct ``(v, vt)`` pair; ``weld`` is the ``v`` index."""
+    _check_counts(path, len(data.positions), len(data.sizes))
     missing = data.corner_vt == _MISSING
     if missing.any():
         if len(data.uvs) == 0:
@@ -543,6 +547,8 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
     try:
         if path.stat().st_size == 0:
             raise MeshError("the file is empty", path)
+        if suffix == "stl":
+            _check_stl_text(path)
         loaded = trimesh.load(str(path), force="mesh", process=False)
     except MeshError:
         raise
@@ -559,6 +565,7 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
         raise MeshError(f"cannot read the mesh ({exc})", path) from exc
     if len(positions) == 0:
         raise MeshError("the mesh is empty (no vertices)", path)
+    _check_counts(path, len(positions), len(faces))
     if len(faces) == 0:
         raise MeshError("the mesh has no faces", path)
     bad = ~np.isfinite(positions).all(axis=1)
@@ -580,6 +587,33 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
             i = int(np.argmax(~np.isfinite(uvs).all(axis=1)))
             raise MeshError(f"vertex {i + 1} has a non-finite texture coordinate", path)
     return positions, faces, uvs
+
+
+def _check_stl_text(path: Path) -> None:
+    """A text STL must be ASCII: trimesh guesses other encodings with an optional package and
+    fails with an ImportError (or garbage) on bytes no encoding explains."""
+    size = path.stat().st_size
+    with path.open("rb") as fh:
+        head = fh.read(84)
+    if not head.startswith(b"solid") or (
+            len(head) == 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == size):
+        return  # binary STL (its header may start with "solid" too)
+    from studio.core.safe_io import read_regular
+
+    data = read_regular(path, size, MeshError, "mesh file")
+    try:
+        data.decode("ascii")
+    except UnicodeDecodeError as exc:
+        raise MeshError(f"a text STL must be ASCII, but byte {exc.start + 1} is 0x"
+                        f"{data[exc.start]:02x} (damaged, or another kind of file)", path) from None
+
+
+def _check_counts(path: Path, vertices: int, faces: int) -> None:
+    """The mesh budgets (vertices, faces), before the per-vertex work begins."""
+    from studio.core.budgets import MESH_TRIANGLES, MESH_VERTICES
+
+    MESH_VERTICES.check(vertices, "the mesh", path, MeshError)
+    MESH_TRIANGLES.check(faces, "the mesh's face count", path, MeshError)
 
 
 def mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: Array) -> FaceMesh:

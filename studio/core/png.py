@@ -116,8 +116,10 @@ def _unfilter(raw: Array, bpp: int) -> Array:
     kinds, data = raw[:, 0], raw[:, 1:]
     if (kinds > 4).any():
         raise PngError(f"the PNG image uses an unknown row filter {int(kinds.max())}")
-    if ((kinds == 3) | (kinds == 4)).any():
-        return _unfilter_diagonals(kinds, data, bpp)
+    if ((kinds == 3) | (kinds == 4)).any():  # in C: the diagonals take seconds on big images
+        from studio.core.png_unfilter import unfilter_with_pillow
+
+        return unfilter_with_pillow(kinds, data, bpp)
     h, stride = data.shape
     out = data.copy()
     sub = kinds == 1

@@ -84,8 +84,11 @@ except ImportError:  # pragma: no cover - Windows
 
 import numpy as np
 
+from studio.core.budgets import check_json_depth
 from studio.core.errors import ProjectError, StudioError
 from studio.core.influence import InfluenceArea, InfluenceSetup
+from studio.core.input_checks import MAX_FPS, MIN_FPS, check_camera
+from studio.core.mask_store import ImageBudget, mask_members
 from studio.core.mesh import FaceMesh
 from studio.core.png import PngError, encode_png, read_png
 from studio.core.poses import NEUTRAL, KeyPose
@@ -327,8 +330,12 @@ def _members(project: Project,
         yield f"textures/{key}.png", encode_png, getattr(project.textures, key)
     for i, image in enumerate(list(project.textures.wrinkle_maps.values())[1:], start=1):
         yield _wrinkled_member(i), encode_png, image
-    for i, area in enumerate(project.influence.areas):
-        yield _mask_member(i, area.name), _mask_png, area.mask
+    written = set()  # masks shared by several areas are stored once
+    for area, member in zip(project.influence.areas,
+                            mask_members(project.influence.areas, _mask_member), strict=True):
+        if member not in written:
+            written.add(member)
+            yield member, _mask_png, area.mask
     for i, wdv in enumerate(project.wdv.areas):
         yield f"wdv/{i:02d}_directions.npy", _npy, wdv.directions
         yield f"wdv/{i:02d}_lengths.npy", _npy, wdv.lengths
@@ -358,8 +365,9 @@ def _document(project: Project, path: Path) -> bytes:
         "influence": {
             "areas": [{"name": a.name, "colour": [int(c) for c in a.colour],
                        "activation": float(a.activation), "visible": bool(a.visible),
-                       "wrinkle_map": a.wrinkle_map, "mask": _mask_member(i, a.name)}
-                      for i, a in enumerate(influence.areas)],
+                       "wrinkle_map": a.wrinkle_map, "mask": member}
+                      for a, member in zip(influence.areas, mask_members(
+                          influence.areas, _mask_member), strict=True)],
             "links": {pose: {area: float(gain) for area, gain in gains.items()}
                       for pose, gains in influence.links.items()},
         },
@@ -544,6 +552,9 @@ def _check_timeline(timeline: Timeline, poses: set[str], fail: Callable[[str], N
     _check_number(timeline.fps, "the timeline's frame rate", fail)
     if not (timeline.fps > 0 and timeline.end > timeline.start):
         fail("the timeline needs a positive frame rate and an end after its start")
+    if not MIN_FPS <= timeline.fps <= MAX_FPS:
+        fail(f"the timeline's frame rate {timeline.fps:g} is outside {MIN_FPS:g} to "
+             f"{MAX_FPS:g} frames per second")
     for track in timeline.tracks:
         if track.pose not in poses:
             fail(f"the timeline animates key pose '{track.pose}', which does not exist")
@@ -618,8 +629,9 @@ _CANNOT_READ = {errno.EACCES, errno.EPERM, errno.EIO, errno.ENOTDIR, errno.EISDI
 
 
 def _open_archive(path: Path) -> zipfile.ZipFile:
-    if path.is_dir():
-        raise ProjectError("this is a folder, not a project file", path)
+    from studio.core.safe_io import require_regular
+
+    require_regular(path, ProjectError, "project file")  # a FIFO or /dev/zero would hang
     try:
         return zipfile.ZipFile(path)
     except zipfile.BadZipFile:
@@ -648,6 +660,7 @@ class _Loader:
         self.archive = archive
         self.path = path
         self.sizes = self._check_directory()
+        self.images = ImageBudget(path)  # decoded pixels, and each mask member decoded once
 
     def fail(self, message: str) -> NoReturn:
         raise ProjectError(message, self.path)
@@ -697,6 +710,7 @@ class _Loader:
         if self.sizes["project.json"] > MAX_JSON_BYTES:
             self.fail("project.json is far larger than any project description")
         data = self.read("project.json", "the project description")
+        check_json_depth(data, "project.json", self.path, ProjectError)
         try:
             doc = json.loads(data.decode("utf-8"), parse_constant=_reject_constant,
                              parse_float=_finite_float)
@@ -790,8 +804,12 @@ class _Loader:
         return array
 
     def image(self, name: Any, what: str, grey: bool) -> Array:
+        shared = self.images.shared(name, what, grey)
+        if shared is not None:
+            return shared
         data = self.read(name, what)
         try:
+            self.images.claim(name, data, what, grey)
             image = read_png(data, MAX_PIXEL_BYTES)
         except PngError as exc:
             self.fail(f"'{name}' ({what}) cannot be read: {exc}")
@@ -802,6 +820,7 @@ class _Loader:
             channels = 1 if image.ndim == 2 else image.shape[2]
             self.fail(f"'{name}' ({what}) must be an RGB image, it has {channels} channel"
                       f"{'s' if channels != 1 else ''}")
+        self.images.keep(name, image)
         return image
 
     # -- the whole project
@@ -837,6 +856,7 @@ class _Loader:
         influence = self.influence(self.field(doc, "influence", "object", ""))
         wdv = self.wdv(self.field(doc, "wdv", "object", ""), n)
         view = self.field(doc, "view", "object", "") if "view" in doc else {}
+        check_camera(view, self.path)
         timeline = self.timeline(doc["timeline"]) if "timeline" in doc else Timeline()
         project = Project(name, mesh, poses, textures, influence=influence, wdv=wdv,
                           timeline=timeline, view=view, not_face=not_face,
@@ -880,7 +900,10 @@ class _Loader:
 
     def influence(self, doc: dict[str, Any]) -> InfluenceSetup:
         areas = []
-        for i, entry in enumerate(self.field(doc, "areas", "list", "influence.")):
+        entries = self.field(doc, "areas", "list", "influence.")
+        self.images.plan_masks([e.get("mask") for e in entries if isinstance(e, dict)],
+                               self.read)
+        for i, entry in enumerate(entries):
             where = f"influence.areas[{i}]."
             entry = self.value(entry, "object", where[:-1])
             area_name = self.field(entry, "name", "name", where)

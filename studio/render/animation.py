@@ -1,6 +1,6 @@
-"""An animation to files, frame by frame: numbered PNGs, an animated GIF and/or an MP4 (with
+"""An animation to files, frame by frame: numbered PNGs, an animated GIF and/or a video (with
 imageio-ffmpeg). Shared by ``wrinkle-studio render --frames/--gif/--video`` and File ▸ Export
-Animation, so both write the same files the same way."""
+Animation, so both check their outputs, stream and write atomically the same way."""
 
 from __future__ import annotations
 
@@ -10,12 +10,15 @@ from pathlib import Path
 
 import numpy as np
 
+from studio.core import atomic_write, budgets, safe_io
 from studio.core.errors import StudioError
+from studio.core.input_checks import check_frame_pattern
 from studio.core.project import Project
 
 
 def frame_path(pattern: str, frame: int) -> Path:
     """``out/frame_%04d.png`` with the frame number filled in."""
+    check_frame_pattern(pattern)
     try:
         return Path(pattern % frame)
     except (TypeError, ValueError):
@@ -39,6 +42,10 @@ def render_frames(studio, settings, project: Project, frames: Sequence[int]
         yield studio.render(settings, weights)
 
 
+VIDEO_MUXERS = {".mp4": "mp4", ".m4v": "mp4", ".mov": "mov", ".mkv": "matroska",
+                ".webm": "webm", ".avi": "avi"}  # the video's temporary file has no suffix
+
+
 def video_available() -> bool:
     return importlib.util.find_spec("imageio_ffmpeg") is not None
 
@@ -47,25 +54,46 @@ class AnimationWriter:
     """Frames one at a time into numbered PNGs, an animated GIF and/or an MP4."""
 
     def __init__(self, fps: float, pattern: str | None = None, gif: str | None = None,
-                 video: str | None = None, size: tuple[int, int] = (0, 0)) -> None:
-        self.fps, self.pattern = fps, pattern
+                 video: str | None = None, size: tuple[int, int] = (0, 0),
+                 step: int = 1, inputs: Sequence[str | Path | None] = ()) -> None:
+        """Check every destination (not an input, writable) before the first frame; the GIF
+        and the video go to temporary files renamed into place by :meth:`close` (``abort``
+        removes them), the GIF streamed frame by frame (``step`` frames apart in time)."""
+        from studio.core.gif_stream import GifStream
+
+        self.fps, self.pattern, self.inputs = fps, pattern, list(inputs)
         self.gif, self.video = (Path(gif) if gif else None), (Path(video) if video else None)
         self.written: list[Path] = []
-        self._gif_frames: list = []
         self._video = None
+        self._outputs: list = []  # open atomic_output contexts: (context, handle)
+        if pattern is not None:
+            safe_io.check_output(frame_path(pattern, 0), self.inputs, make_folders=True,
+                                 what="frame")
+        for path, what in ((self.gif, "GIF"), (self.video, "video")):
+            if path is not None:
+                safe_io.check_output(path, self.inputs, make_folders=True, what=what)
+        if self.video is not None and not video_available():
+            raise StudioError("--video needs imageio-ffmpeg (pip install imageio-ffmpeg)")
+        self._gif = None
+        if self.gif is not None:
+            self._gif = GifStream(self._open(self.gif, "GIF"), 1000.0 * step / fps)
         if self.video is not None:
-            if not video_available():
-                raise StudioError("--video needs imageio-ffmpeg (pip install imageio-ffmpeg)")
             import imageio_ffmpeg
 
-            self._mkdir(self.video)
+            handle = self._open(self.video, "video")
             w, h = size
-            self._video = imageio_ffmpeg.write_frames(str(self.video), (w, h), fps=fps,
-                                                      macro_block_size=1)
+            muxer = VIDEO_MUXERS.get(self.video.suffix.lower(), "mp4")
+            self._video = imageio_ffmpeg.write_frames(handle.name, (w, h), fps=fps,
+                                                      macro_block_size=1,
+                                                      output_params=["-f", muxer])
             self._video.send(None)
-        for path in (self.gif,):
-            if path is not None:
-                self._mkdir(path)
+
+    def _open(self, path: Path, what: str):
+        """A temporary file beside ``path`` that close() renames over it."""
+        context = atomic_write.atomic_output(path, make_folders=True, what=what)
+        handle = context.__enter__()
+        self._outputs.append((context, handle))
+        return handle
 
     @staticmethod
     def _mkdir(path: Path) -> None:
@@ -80,32 +108,57 @@ class AnimationWriter:
 
         if self.pattern is not None:
             out = frame_path(self.pattern, frame)
-            if not self.written:
-                self._mkdir(out)
-            try:
-                Image.fromarray(image).save(out)
-            except OSError as exc:
-                raise StudioError(f"cannot write the image: {exc.strerror or exc}", out) from None
+            safe_io.check_output(out, self.inputs, make_folders=True, what="frame")
+            with atomic_write.atomic_output(out, make_folders=True, what="image") as handle:
+                Image.fromarray(image).save(handle, format="PNG")
             self.written.append(out)
-        if self.gif is not None:
-            self._gif_frames.append(Image.fromarray(image).quantize(colors=255, dither=0))
+        if self._gif is not None:
+            self._gif.add(image)
         if self._video is not None:
             self._video.send(np.ascontiguousarray(image))
 
     def close(self, step: int = 1) -> None:
-        """Finish the GIF (one frame per rendered frame, ``step`` frames apart) and the video.
+        """Finish the GIF and the video and rename them into place.
 
         GIF writers merge consecutive identical frames (adding up their durations), so a held
-        pose plays for the right time but counts as one frame."""
+        pose plays for the right time but counts as one frame. (``step`` is given to the
+        constructor now: the GIF is written as the frames come.)"""
+        try:
+            if self._video is not None:
+                self._video.close()
+                self._video = None
+            if self._gif is not None:
+                self._gif.close()
+                self._gif = None
+        except BaseException:
+            self.abort()
+            raise
+        while self._outputs:
+            context, _ = self._outputs.pop(0)
+            context.__exit__(None, None, None)
+
+    def abort(self) -> None:
+        """Stop without writing the GIF or video (their temporary files are removed); frames
+        already written stay."""
+        import contextlib
+
         if self._video is not None:
-            self._video.close()
+            with contextlib.suppress(Exception):
+                self._video.close()
             self._video = None
-        if self.gif is not None and self._gif_frames:
-            first, *rest = self._gif_frames
-            try:
-                first.save(self.gif, save_all=True, append_images=rest, loop=0,
-                           duration=max(round(1000.0 * step / self.fps), 10), disposal=1)
-            except OSError as exc:
-                raise StudioError(f"cannot write the GIF: {exc.strerror or exc}",
-                                  self.gif) from None
-            self._gif_frames = []
+        self._gif = None
+        while self._outputs:
+            context, _ = self._outputs.pop()
+            with contextlib.suppress(StudioError):
+                context.__exit__(StudioError, StudioError("aborted"), None)
+
+
+def check_animation_budget(count: int, size: tuple[int, int], gif: bool,
+                           source: str | None = None) -> None:
+    """Refuse, before any rendering, an animation longer than the frame budget or a GIF whose
+    frames hold more pixels than the GIF budget (a 10⁹-frame timeline is a 22 GB GIF)."""
+    hint = "render fewer frames with --frames START:END[:STEP]"
+    budgets.FRAMES.check(count, "the animation", source, StudioError, hint)
+    if gif:
+        budgets.GIF_PIXELS.check(count * size[0] * size[1], "the GIF's pixels (frames × width "
+                                 "× height)", source, StudioError, f"{hint} or a smaller --size")

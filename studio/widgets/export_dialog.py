@@ -28,7 +28,12 @@ from PySide6.QtWidgets import (
 
 from studio.core.errors import StudioError
 from studio.core.techniques import TECHNIQUE_LIST
-from studio.render.animation import AnimationWriter, animation_weights, video_available
+from studio.render.animation import (
+    AnimationWriter,
+    animation_weights,
+    check_animation_budget,
+    video_available,
+)
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import render_settings
 from studio.widgets.dialog_buttons import action_buttons
@@ -152,6 +157,8 @@ def export_animation(window, options: ExportOptions) -> bool:
     doc, viewport = window.doc, window.viewport
     project = doc.project
     frames = options.frames
+    check_animation_budget(len(frames), (options.width, options.height),
+                           options.kind == "gif")
     weights = animation_weights(project, frames)
     if options.kind == "frames":
         pattern, gif, video = str(options.path / "frame_%04d.png"), None, None
@@ -159,10 +166,11 @@ def export_animation(window, options: ExportOptions) -> bool:
         pattern = None
         gif = str(options.path) if options.kind == "gif" else None
         video = str(options.path) if options.kind == "video" else None
-    writer = AnimationWriter(project.timeline.fps, pattern, gif, video,
-                             (options.width, options.height))
     if viewport.ctx is None:
         raise StudioError("the viewport has no OpenGL context to render with")
+    writer = AnimationWriter(project.timeline.fps, pattern, gif, video,
+                             (options.width, options.height), options.step,
+                             [doc.path] if doc.path else [])
     # everything the viewport shows (blend, relief, light, debug view), with the chosen technique
     # (a relief this context cannot draw was already turned into parallax by the viewport)
     settings = render_settings(doc.view, technique=options.technique)
@@ -188,7 +196,11 @@ def export_animation(window, options: ExportOptions) -> bool:
                 image = studio.render(settings, weights[i])
             finally:
                 viewport.doneCurrent()
-            writer.add(frame, image)
+            try:
+                writer.add(frame, image)
+            except BaseException:
+                writer.abort()
+                raise
             progress.setLabelText(f"Rendering frame {frame} ({i + 1} of {len(frames)})…")
             progress.setValue(i + 1)
     finally:
@@ -197,6 +209,7 @@ def export_animation(window, options: ExportOptions) -> bool:
         viewport.doneCurrent()
         progress.close()
     if cancelled:
+        writer.abort()
         return False  # the frames written so far stay; the GIF or video is not written
     writer.close(options.step)
     return True

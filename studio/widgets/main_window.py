@@ -382,8 +382,17 @@ class MainWindow(QMainWindow):
     def grab_when_rendered(self, out: Path, on_done) -> None:
         """Save a screenshot of the whole window once the viewport has drawn (docs, CI)."""
         def grab() -> None:
+            from studio.core.atomic_write import atomic_output
+            from studio.core.errors import StudioError
+
             image = self.grab()
-            ok = image.save(str(out))
+            try:  # a temporary file renamed into place: never a half-written screenshot
+                with atomic_output(out, what="screenshot") as handle:
+                    if not image.save(handle.name, "PNG"):
+                        raise OSError("the image could not be encoded")
+                ok = True
+            except (StudioError, OSError):
+                ok = False
             on_done(ok)
 
         def later() -> None:
