@@ -1,0 +1,158 @@
+"""The numpy references of the shaders' formulas, checked by hand-computed cases.
+
+``tests/test_gpu_reference.py`` holds the GPU to these references; this file holds the references
+to the formulas themselves (technique 2's visibility, technique 1's composed weight), with numpy
+only, so the fast tests that mutation testing runs (scripts/mutation.sh) pin them down too.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from studio.core.mask_sparse import K, composed_weight, composed_weights, quantise, sparse_masks
+from studio.core.wdv import SLOTS, WdvArea, WdvSetup, WdvSlots, visibility, wrinkle_directions
+
+
+def one_slot(direction, authored: float, cone_deg: float, wrinkle_map: int = 0,
+             n: int = 1) -> WdvSlots:
+    """``n`` vertices with the same single authored slot (the other slots unused)."""
+    dirs = np.zeros((n, SLOTS, 4), np.float32)
+    dirs[:, 0, :3] = direction
+    dirs[:, 0, 3] = authored
+    cones = np.zeros((n, SLOTS), np.float32)
+    cones[:, 0] = math.radians(cone_deg)
+    maps = np.zeros((n, SLOTS), np.float32)
+    maps[:, 0] = wrinkle_map
+    return WdvSlots(dirs, cones, maps)
+
+
+def tilted(length: float, degrees: float) -> np.ndarray:
+    """A motion of ``length`` at ``degrees`` from +X, in the XY plane."""
+    a = math.radians(degrees)
+    return np.array([[length * math.cos(a), length * math.sin(a), 0.0]])
+
+
+@pytest.mark.parametrize(("length", "angle", "authored", "scale_free", "k", "expected"), [
+    (0.5, 0.0, 1.0, True, 1.0, 0.5),      # along d: w = |δ| / authored
+    (1.0, 10.0, 2.0, True, 1.0, 0.25),    # half-way out of a 20° cone halves it
+    (1.0, 10.0, 2.0, False, 1.0, 0.5),    # in model units: the authored length is ignored
+    (1.0, 5.0, 1.0, True, 0.5, 0.375),    # the expression factor scales it
+    (3.0, 0.0, 1.0, True, 1.0, 1.0),      # clamped at 1
+    (1.0, 19.0, 1.0, True, 1.0, 0.05),    # just inside the cone
+    (1.0, 20.0, 1.0, True, 1.0, 0.0),     # on the cone's edge: outside
+    (1.0, 25.0, 1.0, True, 1.0, 0.0),     # outside the cone
+    (1.0, 180.0, 1.0, True, 1.0, 0.0),    # against the direction
+    (0.0, 0.0, 1.0, True, 1.0, 0.0),      # at rest
+])
+def test_technique_2_visibility_matches_the_formula(length, angle, authored, scale_free, k,
+                                                    expected):
+    w = visibility(tilted(length, angle), one_slot((1, 0, 0), authored, 20.0), k, scale_free)
+    assert w.shape == (1, 4)
+    assert w[0, 0] == pytest.approx(expected, abs=1e-6)
+    assert not w[0, 1:].any()
+
+
+def test_unauthored_slots_and_zero_cones_show_nothing():
+    delta = tilted(1.0, 0.0)
+    assert not visibility(delta, one_slot((1, 0, 0), 0.0, 20.0)).any()
+    assert not visibility(delta, one_slot((1, 0, 0), 1.0, 0.0)).any()
+    assert not visibility(delta, one_slot((0, 0, 0), 1.0, 20.0)).any()
+
+
+def test_each_map_takes_its_strongest_slot():
+    dirs = np.zeros((1, SLOTS, 4), np.float32)
+    dirs[0, :, :3] = (1, 0, 0)
+    dirs[0, :, 3] = (4.0, 2.0, 1.0, 8.0)  # visibility 0.25, 0.5, 1.0, 0.125 for |δ| = 1
+    cones = np.full((1, SLOTS), math.radians(30.0), np.float32)
+    maps = np.array([[1, 1, 3, 1]], np.float32)
+    w = visibility(tilted(1.0, 0.0), WdvSlots(dirs, cones, maps))
+    assert w[0] == pytest.approx([0.0, 0.5, 0.0, 1.0])
+
+
+def test_per_vertex_values_are_independent():
+    slots = one_slot((0, 1, 0), 1.0, 40.0, n=3)
+    delta = np.array([[0, 0.5, 0], [0, 0, 0], [0.5, 0, 0]], float)
+    assert visibility(delta, slots)[:, 0] == pytest.approx([0.5, 0.0, 0.0])
+
+
+def test_create_sets_unit_directions_and_lengths_for_moving_selected_vertices():
+    rest = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], np.float32)
+    target = rest + np.array([[0, 3, 4], [0, 0, 0], [2, 0, 0], [0, 0, 5]], np.float32)
+    result = wrinkle_directions(rest, target, np.array([0, 1, 2]))
+    assert result.directions.ravel().tolist() == pytest.approx(
+        [0, 0.6, 0.8, 0, 0, 0, 1, 0, 0, 0, 0, 0])
+    assert result.lengths.tolist() == pytest.approx([5.0, 0.0, 2.0, 0.0])
+    assert result.still.tolist() == [1]  # selected but not moving: reported, no NaN
+
+
+def test_slots_keep_the_longest_motions_whatever_the_area_order():
+    n = 2
+    areas = []
+    for i, length in enumerate((1.0, 5.0, 2.0, 4.0, 3.0)):
+        area = WdvArea.empty(f"a{i}", "p", n, cone_angle_deg=10.0 + i)
+        area.directions[0] = (1, 0, 0)
+        area.lengths[0] = length
+        areas.append(area)
+    areas[2].cone_angles_deg = np.array([33.0, 0.0], np.float32)  # painted on vertex 0
+    slots = WdvSetup(areas).pack_slots(n, map_index=lambda name: 2)
+    assert slots.dirs[0, :, 3].tolist() == [5.0, 4.0, 3.0, 2.0]
+    assert np.degrees(slots.cones[0]).tolist() == pytest.approx([11.0, 13.0, 14.0, 33.0])
+    assert slots.maps[0].tolist() == [2, 2, 2, 2]
+    assert not slots.dirs[1].any() and not slots.cones[1].any()  # nothing authored there
+    areas[1].enabled = False
+    assert WdvSetup(areas).pack_slots(n).dirs[0, :, 3].tolist() == [4.0, 3.0, 2.0, 1.0]
+    assert not WdvSetup([]).pack_slots(n).dirs.any()
+
+
+def test_composed_weight_is_the_clamped_sum_of_mask_times_activation():
+    masks = np.zeros((3, 1, 3), np.float32)
+    masks[0] = [[1.0, 1.0, 0.0]]
+    masks[1] = [[0.5, 1.0, 0.0]]
+    masks[2] = [[0.0, 0.0, 0.2]]
+    sparse = sparse_masks(masks)
+    s = composed_weight(sparse, np.array([0.4, 0.8, 1.0]))
+    assert s[0].tolist() == pytest.approx([0.4 + 128 / 255 * 0.8, 1.0, 51 / 255], abs=1e-6)
+
+
+def test_composed_weights_route_each_area_to_its_map():
+    masks = np.ones((3, 1, 1), np.float32)
+    out = composed_weights(sparse_masks(masks), np.array([0.25, 0.5, 0.125]), np.array([0, 2, 2]))
+    assert out[0, 0].tolist() == pytest.approx([0.25, 0.0, 0.625, 0.0])
+
+
+def test_more_than_k_areas_keep_the_strongest_and_report_the_dropped_weight():
+    values = [0.1, 0.9, 0.3, 0.7, 0.5, 0.2]
+    masks = np.array(values, np.float32)[:, None, None] * np.ones((1, 2, 3), np.float32)
+    sparse = sparse_masks(masks)
+    assert sparse.dropped_weight == pytest.approx(round(0.2 * 255) / 255)  # the fifth strongest
+    assert sorted(sparse.indices[1, 2].tolist()) == [1, 2, 3, 4]
+    assert sorted(sparse.weights[1, 2].tolist()) == sorted(quantise(np.array([0.9, 0.3, 0.7, 0.5])))
+    act = np.ones(len(values)) * 0.25
+    assert composed_weight(sparse, act)[0, 0] == pytest.approx(
+        0.25 * sum(round(v * 255) / 255 for v in (0.9, 0.3, 0.7, 0.5)), abs=1e-6)
+
+
+def test_few_areas_fill_the_first_slots_and_no_weight_is_dropped():
+    masks = np.array([[[0.0, 1.0]], [[1.0, 0.0]]], np.float32)
+    sparse = sparse_masks(masks)
+    assert sparse.dropped_weight == 0.0
+    assert sparse.indices[0, 0, :2].tolist() == [0, 1]
+    assert sparse.weights[0, :, :2].tolist() == [[0, 255], [255, 0]]
+    assert not sparse.weights[..., 2:].any() and sparse.weights.shape[-1] == K
+
+
+def test_quantise_rounds_and_clamps_and_passes_bytes_through():
+    assert quantise(np.array([-1.0, 0.5, 2.0])).tolist() == [0, 128, 255]
+    raw = np.array([1, 2], np.uint8)
+    assert quantise(raw) is raw
+
+
+def test_masks_taller_than_one_chunk_are_all_composed():
+    masks = np.zeros((5, 150, 2), np.float32)
+    masks[4, 140:, 1] = 1.0
+    sparse = sparse_masks(masks)
+    s = composed_weight(sparse, np.array([0, 0, 0, 0, 0.5]))
+    assert s[140:, 1] == pytest.approx(0.5) and not s[:140].any() and not s[:, 0].any()
