@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 MODES = ("click", "box", "lasso", "brush", "cone")
 BRUSHES = ("brush", "cone")  # modes that paint under a circle while dragging
-CLICK_PIXELS = 4  # a press and release closer than this is a click, not a drag
+CLICK_PIXELS = 4  # a gesture that never leaves the press by this much is a click, not a drag
 CLICK_RADIUS = 12  # with "select through", a click takes the nearest vertex this close
 
 
@@ -71,6 +71,7 @@ class SelectTool:
         self._view: sel.ScreenView | None = None
         self._op = sel.REPLACE
         self._gesture: int | None = None
+        self._reach = 0.0  # the farthest the pointer went from the press, in logical pixels
 
     # --- helpers -------------------------------------------------------------------------------
     @staticmethod
@@ -92,6 +93,7 @@ class SelectTool:
                                                "turn the side-by-side split off", 5000)
             return
         self._start = event.position()
+        self._reach = 0.0
         self._op = gesture_mode(event.modifiers(), brush=self.mode in BRUSHES)
         self._path = [self._pixel(viewport, event)]
         self._view = self.tools.screen_view()
@@ -108,6 +110,7 @@ class SelectTool:
                 overlay.set_outline(circle(x, y, self.brush_radius), closed=True)
                 viewport.update()
             return
+        self._reach = max(self._reach, (event.position() - self._start).manhattanLength())
         if self.mode in BRUSHES:
             self._path.append((x, y))
             self._brush(viewport, event)
@@ -124,7 +127,8 @@ class SelectTool:
         if self._start is None:
             return
         x, y = self._pixel(viewport, event)
-        moved = (event.position() - self._start).manhattanLength()
+        # how far the gesture went, not where it ended: a lasso is closed where it began
+        moved = max(self._reach, (event.position() - self._start).manhattanLength())
         view = self._view
         through = self.tools.select_through
         if self.mode in BRUSHES:
