@@ -12,7 +12,10 @@ import math
 import numpy as np
 import pytest
 
+from studio.core.errors import MeshError
 from studio.core.mask_sparse import K, composed_weight, composed_weights, quantise, sparse_masks
+from studio.core.normalmap import flip_green, height_to_normal
+from studio.core.poses import KeyPose, PoseBlender, check_pose_topology, ease, interpolate
 from studio.core.wdv import SLOTS, WdvArea, WdvSetup, WdvSlots, visibility, wrinkle_directions
 
 
@@ -156,3 +159,102 @@ def test_masks_taller_than_one_chunk_are_all_composed():
     sparse = sparse_masks(masks)
     s = composed_weight(sparse, np.array([0, 0, 0, 0, 0.5]))
     assert s[140:, 1] == pytest.approx(0.5) and not s[:140].any() and not s[:, 0].any()
+
+
+@pytest.mark.parametrize(("mode", "fraction", "expected"), [
+    ("linear", 0.25, 0.25),
+    ("cosine", 0.25, (1 - math.cos(0.25 * math.pi)) / 2),  # Parke: C = (1 − cos(fπ)) / 2
+    ("cosine", 0.5, 0.5),
+    ("smooth", 0.25, 0.15625),  # f²(3 − 2f)
+    ("smooth", 0.75, 0.84375),
+    ("constant", 0.99, 0.0),
+    ("constant", 1.0, 1.0),
+    ("linear", -0.5, 0.0),  # fractions outside [0, 1] are clamped
+    ("smooth", 1.5, 1.0),
+])
+def test_pose_interpolation_eases_the_fraction(mode, fraction, expected):
+    a = np.array([[0.0, 2.0, -1.0]], np.float32)
+    b = np.array([[4.0, 2.0, 3.0]], np.float32)
+    assert ease(fraction, mode) == pytest.approx(expected, abs=1e-9)
+    assert interpolate(a, b, fraction, mode).ravel().tolist() == pytest.approx(
+        (a + expected * (b - a)).ravel().tolist(), abs=1e-6)
+
+
+def test_an_unknown_interpolation_mode_is_refused():
+    with pytest.raises(ValueError, match="bouncy"):
+        ease(0.5, "bouncy")
+
+
+def test_a_pose_of_another_topology_or_with_nan_is_refused_by_name():
+    rest = np.zeros((3, 3), np.float32)
+    check_pose_topology(rest, KeyPose("fine", np.ones((3, 3))))
+    with pytest.raises(MeshError, match=r"'short' has 2 vertices, the neutral mesh has 3"):
+        check_pose_topology(rest, KeyPose("short", np.zeros((2, 3))))
+    bad = np.zeros((3, 3))
+    bad[2, 1] = np.nan
+    with pytest.raises(MeshError, match="'holed' has a non-finite coordinate at vertex 2"):
+        check_pose_topology(rest, KeyPose("holed", bad))
+
+
+def test_blending_many_poses_and_then_none_gives_the_formula_each_time():
+    rest = np.zeros((2, 3), np.float32)
+    poses = [KeyPose(f"p{k}", np.full((2, 3), k + 1.0)) for k in range(5)]
+    blender = PoseBlender(rest, poses)
+    weights = {"p0": 1.0, "p1": 0.5, "p2": 0.25, "p3": 2.0, "p4": -1.0}  # the matrix product
+    expected = 1.0 * 1 + 0.5 * 2 + 0.25 * 3 + 2.0 * 4 - 1.0 * 5
+    assert blender.blend(weights).ravel().tolist() == pytest.approx([expected] * 6)
+    assert blender.blend({"p1": 0.5, "p3": 0.25}).ravel().tolist() == pytest.approx([2.0] * 6)
+    assert not blender.blend({}).any()
+
+
+def reference_normal(height: np.ndarray, su: float, sv: float, top: int) -> np.ndarray:
+    """The bump-to-normal formula texel by texel: gx = h(x−1) − h(x+1) along a row,
+    gy = h(row below) − h(row above), n = normalize(gx·s_u, gy·s_v, 1), edges repeated."""
+    rows, cols = height.shape
+    out = np.zeros((rows, cols, 3))
+    for r in range(rows):
+        for c in range(cols):
+            def h(rr: int, cc: int) -> float:
+                return float(height[min(max(rr, 0), rows - 1), min(max(cc, 0), cols - 1)])
+            n = np.array([(h(r, c - 1) - h(r, c + 1)) * su, (h(r + 1, c) - h(r - 1, c)) * sv, 1.0])
+            n /= np.linalg.norm(n)
+            out[r, c] = np.floor((n * 0.5 + 0.5) * top + 0.5)
+    return out
+
+
+@pytest.mark.parametrize(("strength", "bits"), [(1.0, 8), (0.5, 16), ((2.0, 0.25), 8)])
+def test_a_height_map_becomes_the_normal_map_of_the_formula(strength, bits):
+    rng = np.random.default_rng(bits)
+    height = rng.random((5, 7)).astype(np.float32)
+    su, sv = (strength, strength) if np.isscalar(strength) else strength
+    got = height_to_normal(height, strength, bits=bits)
+    assert got.dtype == (np.uint8 if bits == 8 else np.uint16)
+    np.testing.assert_array_equal(got, reference_normal(height, su, sv, 2**bits - 1))
+
+
+def test_a_slope_up_the_image_and_toward_u_tilts_the_normal_to_minus_x_and_minus_y():
+    ramp = np.tile(np.arange(4, dtype=np.float32), (4, 1))  # rising toward +u
+    n = height_to_normal(ramp, 1.0).astype(int)
+    assert n[1, 1, 0] < 128 and n[1, 1, 1] == 128
+    n = height_to_normal(ramp.T[::-1], 1.0).astype(int)  # rising toward row 0 (+v)
+    assert n[1, 1, 1] < 128 and n[1, 1, 0] == 128
+    assert height_to_normal(np.zeros((2, 2)), 3.0).tolist() == [[[128, 128, 255]] * 2] * 2
+
+
+def test_height_maps_and_bit_depths_that_cannot_be_converted_are_refused():
+    with pytest.raises(ValueError, match="bits must be 8 or 16"):
+        height_to_normal(np.zeros((2, 2)), bits=12)
+    with pytest.raises(ValueError, match="2-D"):
+        height_to_normal(np.zeros((2, 2, 2)))
+    with pytest.raises(ValueError, match="2-D"):
+        height_to_normal(np.zeros((0, 3)))
+
+
+def test_flip_green_inverts_only_green_and_leaves_the_input():
+    image = np.array([[[10, 20, 30]]], np.uint8)
+    assert flip_green(image).tolist() == [[[10, 235, 30]]]
+    assert image.tolist() == [[[10, 20, 30]]]
+    assert flip_green(np.array([[[0, 1000, 0]]], np.uint16))[0, 0, 1] == 65535 - 1000
+    assert flip_green(np.array([[[0.5, 0.25, 1.0]]]))[0, 0].tolist() == [0.5, 0.75, 1.0]
+    with pytest.raises(ValueError, match="normal map"):
+        flip_green(np.zeros((2, 2)))
