@@ -258,3 +258,37 @@ def test_flip_green_inverts_only_green_and_leaves_the_input():
     assert flip_green(np.array([[[0.5, 0.25, 1.0]]]))[0, 0].tolist() == [0.5, 0.75, 1.0]
     with pytest.raises(ValueError, match="normal map"):
         flip_green(np.zeros((2, 2)))
+
+
+def test_visibility_reads_however_many_slots_it_is_given_and_never_goes_negative():
+    dirs = np.zeros((1, 2, 4), np.float32)  # two slots, not SLOTS
+    dirs[0, 1] = (1, 0, 0, 1)
+    slots = WdvSlots(dirs, np.full((1, 2), math.radians(20.0), np.float32),
+                     np.array([[0, 1]], np.float32))
+    assert visibility(tilted(0.5, 0.0), slots)[0].tolist() == pytest.approx([0, 0.5, 0, 0])
+    assert not visibility(tilted(0.5, 0.0), slots, expression_factor=-1.0).any()
+
+
+def test_an_empty_area_keeps_its_name_pose_and_settings_with_nothing_authored():
+    area = WdvArea.empty("brow", "surprise", 3, cone_angle_deg=30.0, wrinkle_map="deep")
+    assert (area.name, area.pose, area.cone_angle_deg, area.wrinkle_map) == (
+        "brow", "surprise", 30.0, "deep")
+    assert area.directions.shape == (3, 3) and area.lengths.shape == (3,)
+    assert not area.authored.any()
+    assert area.vertex_cones_deg().tolist() == [30.0] * 3
+
+
+def test_the_composed_weights_are_float32_like_the_gpu_texture():
+    sparse = sparse_masks(np.ones((2, 1, 1), np.float32))
+    assert composed_weights(sparse, np.array([0.5, 0.25]), np.array([0, 1])).dtype == np.float32
+    assert composed_weight(sparse, np.array([0.5, 0.25])).dtype == np.float32
+
+
+def test_a_track_without_keys_weighs_nothing_one_frame_at_a_time():
+    from studio.core.timeline import Key, Track
+
+    assert Track("frown").value_at(5.0) == 0.0
+    track = Track("frown", [Key(10, 0.4, "linear"), Key(20, 0.8, "linear")])
+    assert track.value_at(0.0) == pytest.approx(0.4)  # held before the first key
+    assert track.value_at(15.0) == pytest.approx(0.6)
+    assert track.value_at(99.0) == pytest.approx(0.8)  # and after the last
