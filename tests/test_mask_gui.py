@@ -137,18 +137,27 @@ def test_a_drag_on_the_posed_face_paints_a_continuous_line(window, qtbot):
     index = add_area_by_click(window, qtbot)
     area = window.doc.project.influence.areas[index]
     window.doc.set_pose_weight("squeeze", 1.0)
+    window.doc.set_area_activation(index, 1.0)  # so that the stroke shows on the face
     tools.action.setChecked(True)
     marks = viewport_marks(window)  # neutral landmarks: still on the face when posed
     ratio = window.viewport.devicePixelRatioF()
     a, b = np.array(marks["forehead right"]), np.array(marks["forehead left"])
     points = [QPoint(*np.rint((a + (b - a) * i / 15) / ratio).astype(int).tolist())
               for i in range(16)]
+    unpainted, steps = area.mask.copy(), window.doc.undo_stack.count()
+    before = viewport_image(window)
     drag(qtbot, window.viewport, points)
     xa, ya = uv_pixel(window, "forehead right")
     xb, yb = uv_pixel(window, "forehead left")
     for f in np.linspace(0.1, 0.9, 9):
         x, y = xa + (xb - xa) * f, ya + (yb - ya) * f
         assert area.mask[int(y) - 6:int(y) + 7, int(x)].max() > 0.2, f
+    assert region_difference(before, viewport_image(window), marks["forehead"]) > 2.0
+    # the whole stroke is one step: Ctrl+Z takes it all back, mask and picture
+    assert window.doc.undo_stack.count() == steps + 1
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert np.array_equal(area.mask, unpainted)
+    assert np.array_equal(viewport_image(window), before)
 
 
 def test_export_then_import_is_lossless_at_16_bit_and_close_at_8(window, tmp_path):
