@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from studio.core.picking import nearest_corner, ray_triangles
 
@@ -40,3 +41,30 @@ def test_degenerate_triangle_is_never_hit():
 def test_nearest_corner():
     hit = ray_triangles([0.9, 0.05, 1.0], [0, 0, -1], POSITIONS, TRIANGLES)
     assert nearest_corner(hit) == 1
+
+
+def test_the_triangles_edges_and_corners_are_hit_and_just_outside_is_not():
+    for x, y in ((0.0, 0.5), (0.5, 0.0), (0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0)):
+        hit = ray_triangles([x, y, 2.0], [0, 0, -1], POSITIONS, TRIANGLES[:1])
+        assert hit is not None, (x, y)
+        np.testing.assert_allclose(hit.point, [x, y, 0.0], atol=1e-9)
+    for x, y in ((-0.01, 0.5), (0.5, -0.01), (0.5, 0.51)):
+        assert ray_triangles([x, y, 2.0], [0, 0, -1], POSITIONS, TRIANGLES[:1]) is None
+
+
+def test_the_nearest_hit_wins_whatever_the_triangle_order_and_the_origin_plane_is_not_hit():
+    hit = ray_triangles([0.2, 0.2, 5.0], [0, 0, -1], POSITIONS, TRIANGLES[::-1])
+    assert hit.triangle == 1 and hit.distance == 5.0  # the front one, listed second
+    hit = ray_triangles([0.2, 0.2, 0.0], [0, 0, -1], POSITIONS, TRIANGLES)  # starts on z = 0
+    assert hit.triangle == 1 and hit.distance == 1.0
+
+
+def test_a_back_face_hit_has_the_same_barycentrics_and_scale_does_not_matter():
+    hit = ray_triangles([0.25, 0.5, -0.5], [0, 0, 1], POSITIONS, TRIANGLES[:1])
+    np.testing.assert_allclose(hit.barycentric, [0.25, 0.25, 0.5], atol=1e-9)
+    assert hit.distance == 0.5
+    for scale in (1e-4, 1e4):
+        hit = ray_triangles(np.array([0.25, 0.25, 1.0]) * scale, [0, 0, -1], POSITIONS * scale,
+                            TRIANGLES[:1])
+        assert hit is not None and hit.distance == pytest.approx(scale)
+        np.testing.assert_allclose(hit.barycentric, [0.5, 0.25, 0.25], atol=1e-6)

@@ -178,3 +178,48 @@ def test_selection_stays_fast_on_30000_vertices():
     assert hits.sum() > 100
     index = sel.mirror_map(pts)
     assert (np.abs(pts[index][:, 0] + pts[:, 0]) < 0.05).mean() > 0.95
+
+
+def test_a_point_on_the_lassos_left_or_top_edge_is_inside_and_on_its_right_or_bottom_outside():
+    """Half-open edges (as for pixels): two lassos that share an edge never both take a vertex,
+    and no vertex on a shared edge is left out of both."""
+    square = np.array([(0, 0), (10, 0), (10, 10), (0, 10)], float)
+    pts = np.array([(5, 5), (0, 5), (5, 0), (10, 5), (5, 10), (-0.01, 5), (5, -0.01), (15, 5)],
+                   float)
+    assert sel.in_lasso(pts, square).tolist() == [True, True, True, False, False, False, False,
+                                                 False]
+    right = square + np.array([10.0, 0.0])
+    assert not (sel.in_lasso(pts, square) & sel.in_lasso(pts, right)).any()
+    assert (sel.in_lasso(pts, square) | sel.in_lasso(pts, right))[3]  # (10, 5): in one of them
+    assert not sel.in_lasso(pts, square[:2]).any()  # a line is no lasso
+    # an outline with horizontal edges and a notch: the notch is outside its bounding box's fill
+    notch = np.array([(0, 0), (9, 0), (9, 9), (6, 9), (6, 3), (3, 3), (3, 9), (0, 9)], float)
+    probe = np.array([(1.5, 6), (4.5, 6), (7.5, 6), (4.5, 1.5)], float)
+    assert sel.in_lasso(probe, notch).tolist() == [True, False, True, True]
+
+
+def window_depth(distance: float, near: float, far: float) -> float:
+    """The depth-buffer value a perspective projection stores for a view distance."""
+    z = (far + near - 2.0 * near * far / distance) / (far - near)
+    return (z + 1.0) / 2.0
+
+
+def test_linear_depth_undoes_the_projection():
+    near, far = 1.0, 10.0
+    assert sel.linear_depth(np.array([0.0, 1.0]), near, far).tolist() == pytest.approx([1, 10])
+    assert sel.linear_depth(np.array([window_depth(4.0, near, far)]), near, far)[0] == (
+        pytest.approx(4.0))
+
+
+def test_occlusion_reads_the_depth_buffer_bottom_up_with_a_forgiving_neighbourhood():
+    near, far, h, w = 1.0, 10.0, 6, 7
+    buffer = np.full((h, w), window_depth(5.0, near, far))
+    buffer[h - 1 - 1, 3] = window_depth(8.0, near, far)  # screen pixel (3, 1) is farther
+    pixels = np.array([(0.5, 4.5), (0.5, 4.5), (0.5, 4.5),  # depths 5, 5.005, 5.5
+                       (3.5, 1.5), (4.5, 2.5), (5.5, 1.5),  # at, beside, two away from the hole
+                       (3.5, 4.5),  # where the hole would be without the bottom-up flip
+                       (-0.5, 2.0), (7.0, 2.0), (2.0, 6.0), (6.99, 5.99)])  # edges of the screen
+    depth = np.array([5.0, 5.005, 5.5, 7.9, 7.9, 7.9, 7.9, 5.0, 5.0, 5.0, 5.0])
+    seen = sel.unoccluded(pixels, depth, buffer, near, far, tolerance=0.01)
+    assert seen.tolist() == [True, True, False, True, True, False, False, False, False, False,
+                             True]
