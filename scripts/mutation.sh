@@ -8,7 +8,7 @@
 #   JOBS=N   parallel mutants (default: the number of cores)
 #   VENV=dir the virtualenv (default .venv, as scripts/test.sh makes it)
 # With no argument the whole of studio/core is mutated afresh (about 11 000 mutants; hours on
-# two cores). With globs ("studio.core.wdv*") only those mutants are (re)run, reusing mutants/.
+# two cores). With globs ("studio.core.wrinkles.wdv*") only those mutants are (re)run, reusing mutants/.
 # At the end it prints the score per module and overall (killed + timed out over all tested)
 # and writes the survivors to mutants/survivors.txt; `$VENV/bin/mutmut show NAME` shows one.
 # Run it on a quiet machine: a timed-out mutant counts as killed (mutmut's rule; the timeout

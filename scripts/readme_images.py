@@ -13,8 +13,8 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from studio.bench.report import _font
-from studio.core.project import Project
-from studio.core.sample import make_sample, sample_landmarks
+from studio.core.project.model import Project
+from studio.core.project.sample import make_sample, sample_landmarks
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 

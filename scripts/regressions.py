@@ -39,14 +39,14 @@ REGRESSIONS = (
         ("tests/test_gpu_reference.py::test_technique_2_falloff_by_hand",
          "tests/test_gpu_reference.py::test_technique_2_visibility_on_the_gpu_is_the_formula")),
     Regression(  # in the per-frame path that feeds the renderer
-        "handedness-ignored", "studio/core/geometry.py",
+        "handedness-ignored", "studio/core/mesh/geometry.py",
         "np.multiply(mask, np.float32(-2.0), out=row[:, 9])\n        row[:, 9] += np.float32(1.0)",
         "row[:, 9] = 1.0",
         ("tests/test_gpu_reference.py::test_a_mirrored_uv_island_tilts_its_normals_the_same_way",
          "tests/test_gpu_reference.py::"
          "test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike")),
     Regression(  # in the plain reference the per-frame path is checked against
-        "handedness-ignored-reference", "studio/core/geometry.py",
+        "handedness-ignored-reference", "studio/core/mesh/geometry.py",
         'out[:, 3] = np.where(np.einsum("ij,ij->i", np.cross(n, t_sum), b_sum) < 0.0, -1.0, 1.0)',
         "out[:, 3] = 1.0",
         ("tests/test_geometry.py",)),
@@ -55,16 +55,16 @@ REGRESSIONS = (
         "weight = clamp(s, 0.0, 1.0);", "weight = s;",
         ("tests/test_gpu_reference.py::test_technique_1_compose_pass_on_the_gpu_is_the_formula",)),
     Regression(
-        "archive-nested-path-check", "studio/core/project_file.py",
+        "archive-nested-path-check", "studio/core/project/reader.py",
         '            or any(p in ("", ".", "..") for p in parts))',
         "            )",
         ("tests/test_project_file.py::test_a_member_whose_name_leads_outside_the_archive_is_refused",)),
     Regression(
-        "smooth-made-linear", "studio/core/timeline.py",
+        "smooth-made-linear", "studio/core/animation/timeline.py",
         "[f, parke_cosine(f), f * f * (3.0 - 2.0 * f)],", "[f, parke_cosine(f), f],",
         ("tests/test_timeline.py",)),
     Regression(
-        "middle-drag-pan-orbit-swapped", "studio/widgets/viewport.py",
+        "middle-drag-pan-orbit-swapped", "studio/widgets/viewport/viewport.py",
         '                return "zoom"\n            return "pan" if shift else "orbit"',
         '                return "zoom"\n            return "orbit" if shift else "pan"',
         ("tests/test_navigation_gui.py",)),

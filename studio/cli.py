@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from studio.commands.options import EXIT_USAGE
-from studio.core.errors import StudioError
+from studio.core.files.errors import StudioError
 
 
 class _Parser(argparse.ArgumentParser):
@@ -53,7 +53,7 @@ def run_gui(args: argparse.Namespace) -> int:
     if args.project is not None and not Path(args.project).is_file():
         raise StudioError("no such project file", args.project)
     if args.screenshot:
-        from studio.core.safe_io import check_output
+        from studio.core.files.safe_io import check_output
 
         check_output(args.screenshot, [args.project], what="screenshot")
     return run(args.project, args.screenshot)

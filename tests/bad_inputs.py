@@ -19,11 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from studio.core.gltf import save_gltf
-from studio.core.meshio import save_obj
-from studio.core.png import SIGNATURE, encode_png
-from studio.core.project_file import save_project
-from studio.core.sample import make_sample
+from studio.core.files.png import SIGNATURE, encode_png
+from studio.core.mesh.meshio import save_obj
+from studio.core.project.gltf import save_gltf
+from studio.core.project.sample import make_sample
+from studio.core.project.writer import save_project
 
 
 def small_project():

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from studio.core.camera import OrbitCamera
-from studio.core.project import Project
-from studio.core.sample import sample_landmarks
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.project.model import Project
+from studio.core.project.sample import sample_landmarks
 
 
 def landmark_pixels(project: Project, camera: OrbitCamera, width: int, height: int

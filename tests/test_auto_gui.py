@@ -9,10 +9,10 @@ import pytest
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QApplication, QDialogButtonBox, QProgressDialog
 
-from studio.core.influence import InfluenceSetup
-from studio.core.textures import MAX_WRINKLE_MAPS, FaceTextures, flat_normal_map
-from studio.core.wdv import WdvSetup
-from studio.widgets.auto_tools import SynthDialog
+from studio.core.wrinkles.influence import InfluenceSetup
+from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS, FaceTextures, flat_normal_map
+from studio.core.wrinkles.wdv import WdvSetup
+from studio.widgets.maps.auto_tools import SynthDialog
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
 

@@ -7,18 +7,18 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core import auto_setup as auto
-from studio.core import mask_ops
-from studio.core.errors import StudioError
-from studio.core.influence import InfluenceArea
-from studio.core.mesh import FaceMesh
-from studio.core.meshio import save_obj
-from studio.core.poses import KeyPose
-from studio.core.project import Project
-from studio.core.project_file import load_project
-from studio.core.textures import FaceTextures, flat_normal_map
-from studio.core.wdv import WdvArea
-from studio.core.wrinkle_synth import is_flat
+from studio.core.animation.poses import KeyPose
+from studio.core.files.errors import StudioError
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.meshio import save_obj
+from studio.core.project.model import Project
+from studio.core.project.reader import load_project
+from studio.core.setup import auto_setup as auto
+from studio.core.setup.wrinkle_synth import is_flat
+from studio.core.wrinkles import mask_ops
+from studio.core.wrinkles.influence import InfluenceArea
+from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
+from studio.core.wrinkles.wdv import WdvArea
 
 N = 21  # vertices along each side of the grid: spacing 0.1 over [-1, 1]
 SQUEEZE = 0.9  # the left half (x < 0) is squeezed to 90 % along x

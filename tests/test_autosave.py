@@ -10,12 +10,13 @@ import numpy as np
 import pytest
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
-from studio.core import project_file
-from studio.core.brush import Brush
-from studio.core.project_file import backup_path, load_project
+from studio.core.project import writer as project_writer
+from studio.core.project.reader import load_project
+from studio.core.project.writer import backup_path
+from studio.core.wrinkles.brush import Brush
 from studio.widgets.autosave import INTERVAL_KEY, find_recoveries, recovery_dir
 from studio.widgets.main_window import MainWindow, settings
-from studio.widgets.mask_edits import PaintSession
+from studio.widgets.paint.edits import PaintSession
 from studio.widgets.undo_budget import DROPPED_PREFIX, install_undo_budget
 
 
@@ -125,7 +126,7 @@ class _HeldWriter:
         self.started = threading.Event()
         self.release = threading.Event()
         self.threads: list[threading.Thread] = []
-        self.real = project_file.save_project
+        self.real = project_writer.save_project
 
     def __call__(self, project, path, backup=True) -> None:
         if threading.current_thread() is not threading.main_thread():
@@ -138,7 +139,7 @@ class _HeldWriter:
 @pytest.fixture
 def held_writer(monkeypatch):
     writer = _HeldWriter()
-    monkeypatch.setattr(project_file, "save_project", writer)
+    monkeypatch.setattr(project_writer, "save_project", writer)
     yield writer
     writer.release.set()
 
@@ -331,9 +332,9 @@ def test_undo_budget_keeps_count_through_every_kind_of_change(qtbot):
 def test_the_budget_counts_a_paint_strokes_tiles(qtbot, sample):
     """A stroke's undo step holds its tiles (before and after); the budget must count them,
     or a long painting session would grow past it unseen."""
-    from studio.core.brush import Brush
+    from studio.core.wrinkles.brush import Brush
     from studio.widgets.document import Document
-    from studio.widgets.mask_edits import PaintSession
+    from studio.widgets.paint.edits import PaintSession
     from studio.widgets.undo_budget import command_bytes
 
     doc = Document(sample)

@@ -8,10 +8,10 @@ import threading
 import numpy as np
 import pytest
 
-from studio.core.bake import BakeCancelled, bake_normal_map, texel_samples
-from studio.core.errors import MeshError
-from studio.core.geometry import DeformCache
-from studio.core.mesh import FaceMesh
+from studio.core.files.errors import MeshError
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import DeformCache
+from studio.core.wrinkles.bake import BakeCancelled, bake_normal_map, texel_samples
 
 SIZE = 64
 A, K = 0.02, 3  # the sculpt's height: A·sin(2πK·x)·cos(4π·y) over the unit square
@@ -220,8 +220,8 @@ def test_progress_rises_to_one_and_cancel_stops(high):
 @pytest.fixture
 def sculpt_file(window, tmp_path):
     """The window's face with ridges across the forehead, saved as the high-polygon OBJ."""
-    from studio.core.geometry import vertex_normals
-    from studio.core.meshio import save_obj
+    from studio.core.mesh.geometry import vertex_normals
+    from studio.core.mesh.meshio import save_obj
 
     mesh = window.doc.project.mesh
     normals = vertex_normals(mesh.rest, mesh.welded_triangles)
@@ -241,8 +241,8 @@ def menu_action(window, text: str):
 def test_bake_from_the_maps_menu_is_one_undo_step(window, qtbot, monkeypatch, sculpt_file):
     from PySide6.QtWidgets import QDialog
 
-    from studio.core.textures import flat_normal_map
-    from studio.widgets.bake_tools import BakeDialog
+    from studio.core.wrinkles.textures import flat_normal_map
+    from studio.widgets.maps.bake_tools import BakeDialog
 
     doc = window.doc
     textures = doc.project.textures
@@ -282,7 +282,7 @@ def test_bake_from_the_maps_menu_is_one_undo_step(window, qtbot, monkeypatch, sc
 def test_cancelling_the_bake_leaves_the_map(window, qtbot, monkeypatch, sculpt_file):
     from PySide6.QtWidgets import QPushButton
 
-    import studio.widgets.bake_tools as bake_tools
+    import studio.widgets.maps.bake_tools as bake_tools
 
     release = threading.Event()
     real_load = bake_tools.load_mesh
@@ -323,10 +323,11 @@ def test_a_sculpt_without_uvs_is_reported_by_name(window, qtbot, tmp_path, dialo
 
 def test_cli_bakes_into_the_project_and_a_png(tmp_path, capsys):
     from studio.cli import main
-    from studio.core.images import load_rgb
-    from studio.core.meshio import save_obj
-    from studio.core.project_file import load_project, save_project
-    from studio.core.sample import make_sample
+    from studio.core.files.images import load_rgb
+    from studio.core.mesh.meshio import save_obj
+    from studio.core.project.reader import load_project
+    from studio.core.project.sample import make_sample
+    from studio.core.project.writer import save_project
 
     project = make_sample(561, texture_size=64, mask_size=32)
     save_project(project, tmp_path / "face.wrinkle")

@@ -96,7 +96,7 @@ def test_a_held_pose_is_not_deformed_again_and_a_reloaded_mesh_is(studio):
 
 def test_deformation_is_timed_every_frame(sample):
     from studio.bench.runner import deformation_cpu_ms
-    from studio.core.timeline import sequence_all_poses
+    from studio.core.animation.timeline import sequence_all_poses
 
     timeline = sequence_all_poses([p.name for p in sample.poses], fps=24.0)
     times = deformation_cpu_ms(sample, timeline, 12)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.brush import Brush, Stroke, TileBackup, falloff, stamp, tile_changes
+from studio.core.wrinkles.brush import Brush, Stroke, TileBackup, falloff, stamp, tile_changes
 
 
 def test_hard_dab_covers_exactly_the_pixels_within_the_radius():

@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from studio.cli import main
-from studio.core.sample import make_sample
+from studio.core.project.sample import make_sample
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 

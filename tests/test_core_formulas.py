@@ -12,11 +12,24 @@ import math
 import numpy as np
 import pytest
 
-from studio.core.errors import MeshError
-from studio.core.mask_sparse import K, composed_weight, composed_weights, quantise, sparse_masks
-from studio.core.normalmap import flip_green, height_to_normal
-from studio.core.poses import KeyPose, PoseBlender, check_pose_topology, ease, interpolate
-from studio.core.wdv import SLOTS, WdvArea, WdvSetup, WdvSlots, visibility, wrinkle_directions
+from studio.core.animation.poses import KeyPose, PoseBlender, check_pose_topology, ease, interpolate
+from studio.core.files.errors import MeshError
+from studio.core.wrinkles.mask_sparse import (
+    K,
+    composed_weight,
+    composed_weights,
+    quantise,
+    sparse_masks,
+)
+from studio.core.wrinkles.normalmap import flip_green, height_to_normal
+from studio.core.wrinkles.wdv import (
+    SLOTS,
+    WdvArea,
+    WdvSetup,
+    WdvSlots,
+    visibility,
+    wrinkle_directions,
+)
 
 
 def one_slot(direction, authored: float, cone_deg: float, wrinkle_map: int = 0,
@@ -285,7 +298,7 @@ def test_the_composed_weights_are_float32_like_the_gpu_texture():
 
 
 def test_a_track_without_keys_weighs_nothing_one_frame_at_a_time():
-    from studio.core.timeline import Key, Track
+    from studio.core.animation.timeline import Key, Track
 
     assert Track("frown").value_at(5.0) == 0.0
     track = Track("frown", [Key(10, 0.4, "linear"), Key(20, 0.8, "linear")])

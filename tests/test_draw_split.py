@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.draw_split import (
+from studio.core.mesh.draw_split import (
     any_corner,
     boxes_touch,
     moved,
@@ -14,7 +14,7 @@ from studio.core.draw_split import (
     triangle_texel_boxes,
     wrinkled_first,
 )
-from studio.core.influence import InfluenceArea
+from studio.core.wrinkles.influence import InfluenceArea
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 

@@ -8,13 +8,13 @@ import pytest
 from PySide6.QtCore import Qt
 
 from studio.cli import main
-from studio.core.camera import OrbitCamera
-from studio.core.errors import StudioError
-from studio.core.face_frame import aim, detect_face_frame, face_frame, parse_axis
-from studio.core.mesh import FaceMesh
-from studio.core.poses import KeyPose
-from studio.core.project import Project
-from studio.core.textures import FaceTextures, flat_normal_map, plain_diffuse
+from studio.core.animation.poses import KeyPose
+from studio.core.files.errors import StudioError
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.project.model import Project
+from studio.core.setup.face_frame import aim, detect_face_frame, face_frame, parse_axis
+from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 from tests.production_head import POSES, ProductionHead, build_head
@@ -168,7 +168,7 @@ def test_the_mirror_plane_is_the_heads_own_not_x_zero():
     """The head stands 35 cm to the side of the origin: mirroring across x = 0 would land
     nowhere near the face; across the face's own plane, the left eye corner maps to the
     right one."""
-    from studio.core import selection as sel
+    from studio.core.mesh import selection as sel
 
     head, project = head_project("mm")
     frame = face_frame(project)

@@ -17,11 +17,11 @@ import pytest
 from PySide6.QtCore import QPoint, Qt, QTimer
 from PySide6.QtWidgets import QApplication, QFileDialog, QMenu, QMessageBox
 
-from studio.core.project import Project
-from studio.core.project_file import load_project
-from studio.core.sample import make_sample
-from studio.widgets import wdv_edits as edits
+from studio.core.project.model import Project
+from studio.core.project.reader import load_project
+from studio.core.project.sample import make_sample
 from studio.widgets.app_settings import settings
+from studio.widgets.wdv import edits
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
 from tests.test_wdv_gui import drag, forehead_box

@@ -15,8 +15,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from studio.cli import main
-from studio.core.errors import StudioError
-from studio.core.gltf import load_gltf
+from studio.core.files.errors import StudioError
+from studio.core.project.gltf import load_gltf
 from tests.bad_inputs import gltf_doc, write_base, write_gltf
 
 SCALE = int(os.environ.get("WRINKLE_FUZZ_EXAMPLES", "250")) / 250

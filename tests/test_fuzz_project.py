@@ -21,10 +21,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from studio.core.errors import ProjectError
-from studio.core.project import Project
-from studio.core.project_file import check_project, load_project, save_project
-from studio.core.sample import make_sample
+from studio.core.files.errors import ProjectError
+from studio.core.project.model import Project
+from studio.core.project.reader import load_project
+from studio.core.project.sample import make_sample
+from studio.core.project.schema import check_project
+from studio.core.project.writer import save_project
 
 EXAMPLES = int(os.environ.get("WRINKLE_FUZZ_EXAMPLES", "250"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=False,

@@ -9,15 +9,15 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from studio.core import geometry
-from studio.core.geometry import (
+from studio.core.mesh import geometry
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import (
     DeformCache,
     bitangents,
     face_normals,
     vertex_normals,
     vertex_tangents,
 )
-from studio.core.mesh import FaceMesh
 
 S2 = np.sqrt(2.0)
 S3 = np.sqrt(3.0)
@@ -467,8 +467,8 @@ def test_deform_cache_on_the_sample_animation_matches_a_plain_reference(sample):
     """The sample face through the benchmark's animation (blend, then normals and tangents),
     against float64 NumPy written the obvious way: the standalone functions and
     ``rest + Σ w·(pose − rest)``."""
-    from studio.core.poses import PoseBlender
-    from studio.core.timeline import sequence_all_poses
+    from studio.core.animation.poses import PoseBlender
+    from studio.core.animation.timeline import sequence_all_poses
 
     mesh = sample.mesh
     timeline = sequence_all_poses([p.name for p in sample.poses], fps=24.0)

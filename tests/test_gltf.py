@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core.errors import StudioError
-from studio.core.gltf import load_gltf, save_gltf
-from studio.core.images import read_image
-from studio.core.project_file import load_project
-from studio.core.sample import make_sample
+from studio.core.files.errors import StudioError
+from studio.core.files.images import read_image
+from studio.core.project.gltf import load_gltf, save_gltf
+from studio.core.project.reader import load_project
+from studio.core.project.sample import make_sample
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.errors import RenderError, StudioError
+from studio.core.files.errors import RenderError, StudioError
 from studio.render.renderer import FaceRenderer
 
 
@@ -32,7 +32,7 @@ def test_masks_larger_than_the_gpu_holds(renderer, gl_context):
 
 
 def test_textures_larger_than_the_gpu_holds(renderer, gl_context, monkeypatch):
-    from studio.core.sample import make_sample
+    from studio.core.project.sample import make_sample
 
     textures = make_sample(561, texture_size=64, mask_size=32).textures
     renderer.set_textures(textures)

@@ -2,9 +2,9 @@
 over meshes and parameters drawn by hypothesis:
 
 - technique 2's per-vertex visibility (shaders/face.vert ``wdv_visibility``), read back by
-  transform feedback, against ``studio.core.wdv.visibility``;
+  transform feedback, against ``studio.core.wrinkles.wdv.visibility``;
 - technique 1's compose pass (shaders/t1_compose.frag), the weight texture read back, against
-  ``studio.core.mask_sparse.composed_weights``;
+  ``studio.core.wrinkles.mask_sparse.composed_weights``;
 - the tangent frame's handedness on a mirrored UV island, in a render.
 
 Tolerances: technique 2 within 0.01 (float32 ``acos`` on the GPU: near α = 0 its error is
@@ -19,12 +19,12 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from studio.core.mask_sparse import composed_weights, sparse_masks
-from studio.core.mesh import FaceMesh
-from studio.core.project import Project
-from studio.core.sample import make_sample
-from studio.core.textures import FaceTextures, flat_normal_map
-from studio.core.wdv import WdvSlots, visibility
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.project.model import Project
+from studio.core.project.sample import make_sample
+from studio.core.wrinkles.mask_sparse import composed_weights, sparse_masks
+from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
+from studio.core.wrinkles.wdv import WdvSlots, visibility
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 from studio.render.shaders import build_program
@@ -178,8 +178,8 @@ def test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike(gl_contex
     """Technique 2 revealing a wrinkled map over both quads of the mirrored plane: the UV seam
     down the middle is invisible (the columns either side match) and the mirrored half shows
     the same wrinkle, not an inverted one."""
-    from studio.core.poses import KeyPose
-    from studio.core.wdv import WdvArea, WdvSetup
+    from studio.core.animation.poses import KeyPose
+    from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
     project = mirrored_plane()
     project.textures.normal_neutral = flat_normal_map(8)

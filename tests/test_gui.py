@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from PySide6.QtCore import Qt
 
-from studio.core.project_file import load_project
-from studio.widgets.viewport import split_columns
+from studio.core.project.reader import load_project
+from studio.widgets.viewport.viewport import split_columns
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
 

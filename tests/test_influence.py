@@ -7,7 +7,7 @@ import itertools
 
 import numpy as np
 
-from studio.core.influence import InfluenceArea, InfluenceSetup
+from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 
 
 def _plain(influence: InfluenceSetup, weights: dict[str, float]) -> np.ndarray:
@@ -53,7 +53,7 @@ def test_activations_follow_changes_made_straight_to_the_data(sample):
 
 def test_activations_follow_the_studios_area_and_link_edits_and_their_undo(qtbot, sample):
     from studio.widgets.document import Document
-    from studio.widgets.mask_edits import (
+    from studio.widgets.paint.edits import (
         add_area,
         delete_area,
         duplicate_area,

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from PySide6.QtWidgets import QFileDialog, QInputDialog
 
-from studio.core.gltf import load_gltf
-from studio.core.images import write_png
+from studio.core.files.images import write_png
+from studio.core.project.gltf import load_gltf
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
 

@@ -9,10 +9,11 @@ import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtWidgets import QPushButton
 
-from studio.core.images import read_image, write_png
-from studio.core.project_file import load_project, save_project
-from studio.core.sample import landmark_uvs
-from studio.widgets.mask_edits import PaintSession, set_resolution
+from studio.core.files.images import read_image, write_png
+from studio.core.project.reader import load_project
+from studio.core.project.sample import landmark_uvs
+from studio.core.project.writer import save_project
+from studio.widgets.paint.edits import PaintSession, set_resolution
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
 
@@ -219,7 +220,7 @@ def test_area_list_edits_are_undoable(window, qtbot):
     assert np.array_equal(doc.project.influence.areas[1].mask, doc.project.influence.areas[0].mask)
     panel.move(1)  # the copy goes down one
     assert doc.project.influence.areas[2].name == f"{names[0]} copy"
-    from studio.widgets.mask_edits import rename_area, set_area_colour, set_area_visible
+    from studio.widgets.paint.edits import rename_area, set_area_colour, set_area_visible
     assert rename_area(doc, 0, "brow R")
     assert doc.project.influence.links["surprise"]["brow R"] == 1.0  # links follow the name
     assert not rename_area(doc, 1, "brow R")  # taken
@@ -287,7 +288,7 @@ def test_painted_project_round_trips(window, qtbot, tmp_path):
     session = PaintSession(doc, index, window.mask_tools.state.brush)
     session.jump(*uv_pixel(window, "cheek left"))
     session.end()
-    from studio.widgets.mask_edits import set_link
+    from studio.widgets.paint.edits import set_link
     set_link(doc, "frown", doc.project.influence.areas[index].name, 0.7)
     path = tmp_path / "painted.wrinkle"
     save_project(doc.project, path)
@@ -336,11 +337,11 @@ def test_stroke_segments_on_a_4096_mask_store_only_their_tiles(window):
 
 
 def test_a_face_dab_at_a_uv_seam_also_lands_in_the_other_chart(qtbot, sample):
-    from studio.core.picking import Hit
-    from studio.widgets.areas_panel import PaintState
+    from studio.core.mesh.picking import Hit
     from studio.widgets.document import Document
-    from studio.widgets.mask_edits import add_area
-    from studio.widgets.paint_tool import FacePaintTool, SeamMap
+    from studio.widgets.paint.areas_panel import PaintState
+    from studio.widgets.paint.edits import add_area
+    from studio.widgets.paint.paint_tool import FacePaintTool, SeamMap
 
     doc = Document(sample)
     add_area(doc, "seam")
@@ -382,9 +383,9 @@ def test_tablet_pressure_scales_the_dab(qtbot, sample):
     from PySide6.QtGui import QPointingDevice, QTabletEvent
     from PySide6.QtWidgets import QApplication
 
-    from studio.widgets.areas_panel import PaintState
     from studio.widgets.document import Document
-    from studio.widgets.uv_canvas import UvCanvas
+    from studio.widgets.paint.areas_panel import PaintState
+    from studio.widgets.paint.uv_canvas import UvCanvas
 
     doc = Document(sample)
     state = PaintState()
@@ -482,7 +483,7 @@ def open_active(open_window, qtbot, project):
 def warped_sample(sample):
     """The sample face with an asymmetric UV layout (u → u^1.25): the mesh is still symmetric,
     its UVs no longer are, so only a mirror through the mesh finds the other cheek."""
-    from studio.core.mesh import FaceMesh
+    from studio.core.mesh.face_mesh import FaceMesh
 
     mesh = sample.mesh
     uvs = mesh.uvs.copy()
@@ -499,7 +500,7 @@ def warped_pixel(window, name: str) -> tuple[float, float]:
 
 def neutral_marks(window) -> dict[str, tuple[int, int]]:
     """The landmarks' pixels, found on the sample's own UV layout (the geometry is the same)."""
-    from studio.core.sample import make_sample
+    from studio.core.project.sample import make_sample
     from tests.regions import landmark_pixels
 
     w, h = window.viewport.pixel_size()

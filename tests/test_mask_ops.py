@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core import mask_ops
-from studio.core.mesh import FaceMesh
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.wrinkles import mask_ops
 
 
 def test_fill_invert_levels():
@@ -102,7 +102,7 @@ def test_auto_mask_is_nonzero_where_the_pose_compresses_and_zero_elsewhere():
 
 
 def test_auto_mask_on_the_sample_squeeze_lands_near_the_eyes():
-    from studio.core.sample import landmark_uvs, make_sample
+    from studio.core.project.sample import landmark_uvs, make_sample
 
     project = make_sample()
     mask = mask_ops.auto_mask(project.mesh, project.pose("squeeze").positions, 256)

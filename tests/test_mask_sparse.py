@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from studio.core.mask_sparse import K, composed_weight, quantise, sparse_masks
+from studio.core.wrinkles.mask_sparse import K, composed_weight, quantise, sparse_masks
 
 
 def direct_sum(masks, activations):

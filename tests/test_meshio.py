@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studio.core.errors import MeshError
-from studio.core.mesh import FaceMesh
-from studio.core.meshio import load_mesh, load_pose, save_obj
-from studio.core.poses import KeyPose
+from studio.core.animation.poses import KeyPose
+from studio.core.files.errors import MeshError
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.meshio import load_mesh, load_pose, save_obj
 
 # A quad (v/vt/vn), a pentagon (v/vt) whose first and last corners reuse v2 and v3 with other
 # texture coordinates (a UV seam), and a triangle written with negative (relative) indices.
@@ -410,7 +410,7 @@ def _moved(text: str, dz: float = 1.0) -> str:
 
 
 def test_obj_groups_lists_objects_groups_and_materials_with_face_counts(tmp_path: Path):
-    from studio.core.meshio import ObjGroup, obj_groups
+    from studio.core.mesh.meshio import ObjGroup, obj_groups
 
     assert obj_groups(_parts(tmp_path)) == [
         ObjGroup("object", "Head", 4),
@@ -497,7 +497,7 @@ def test_unknown_or_empty_choices_are_clear_errors(tmp_path: Path):
 
 
 def test_not_face_vertices_are_those_only_not_face_parts_touch(tmp_path: Path):
-    from studio.core.meshio import not_face_vertices
+    from studio.core.mesh.meshio import not_face_vertices
 
     mesh = load_mesh(_parts(tmp_path))
     # v5, v6 touch skin and eye faces: skin. v7, v8: eye only.

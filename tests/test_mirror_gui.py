@@ -7,8 +7,8 @@ import numpy as np
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QPushButton
 
-from studio.core.sample import landmark_uvs
-from studio.core.surface_mirror import SurfaceMirror, mirror_mask
+from studio.core.project.sample import landmark_uvs
+from studio.core.wrinkles.surface_mirror import SurfaceMirror, mirror_mask
 from tests.test_face_frame import head_project
 
 
@@ -55,7 +55,7 @@ def test_mirror_makes_the_other_sides_area_linked_to_the_paired_pose(window, qtb
 def test_a_mask_mirrors_across_a_head_placed_anywhere():
     """A Z-up head in millimetres, 35 cm off the origin: through its own symmetry plane, a
     blob on the left eye corner lands on the right one."""
-    from studio.core.face_frame import face_frame
+    from studio.core.setup.face_frame import face_frame
 
     head, project = head_project("mm")
     frame = face_frame(project)
@@ -78,9 +78,9 @@ def test_a_mask_mirrors_across_a_head_placed_anywhere():
 
 
 def test_a_52_pose_rig_keeps_its_names_and_the_filter_finds_a_pose(open_window, qtbot):
-    from studio.core.pose_names import ARKIT_NAMES
-    from studio.core.poses import KeyPose
-    from studio.core.sample import make_sample
+    from studio.core.animation.pose_names import ARKIT_NAMES
+    from studio.core.animation.poses import KeyPose
+    from studio.core.project.sample import make_sample
 
     project = make_sample(561)
     rest = project.mesh.rest

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from PySide6.QtWidgets import QDialogButtonBox
 
-from studio.core.assemble import project_from_files
-from studio.core.errors import MeshError
-from studio.core.images import write_png
-from studio.core.meshio import save_obj
-from studio.core.sample import make_sample
+from studio.core.files.errors import MeshError
+from studio.core.files.images import write_png
+from studio.core.mesh.meshio import save_obj
+from studio.core.project.assemble import project_from_files
+from studio.core.project.sample import make_sample
 from studio.widgets.new_project_dialog import NewProjectDialog
 
 

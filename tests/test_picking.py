@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.picking import nearest_corner, ray_triangles
+from studio.core.mesh.picking import nearest_corner, ray_triangles
 
 # two unit squares' worth of triangles facing +Z, one at z=0 and one behind it at z=-1
 POSITIONS = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0],

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from studio.core.pose_names import (
+from studio.core.animation.pose_names import (
     ARKIT_NAMES,
     canonical,
     mirror_name,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.poses import NEUTRAL, PoseBlender
+from studio.core.animation.poses import NEUTRAL, PoseBlender
 
 
 def _plain_blend(project, weights: dict[str, float]) -> np.ndarray:

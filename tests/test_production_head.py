@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core.images import write_png
-from studio.core.project import Project
-from studio.core.project_file import load_project, save_project
-from studio.core.wrinkle_synth import is_flat
+from studio.core.files.images import write_png
+from studio.core.project.model import Project
+from studio.core.project.reader import load_project
+from studio.core.project.writer import save_project
+from studio.core.setup.wrinkle_synth import is_flat
 from tests.production_head import (
     COMPRESSING,
     EYES_ONLY,
@@ -172,9 +173,9 @@ def test_the_synthesised_furrows_lie_on_the_skin_tile_and_crossing_poses_get_own
 def test_a_gltf_with_udim_coordinates_is_packed_the_same_way(imported):
     """A glTF from elsewhere (no studio extras) whose UVs run over three tiles: imported, its
     UVs are packed like the OBJ set's, and its own image is tile 1001's."""
-    from studio.core.assemble import project_from_files
-    from studio.core.gltf import save_gltf
-    from studio.core.mesh import FaceMesh
+    from studio.core.mesh.face_mesh import FaceMesh
+    from studio.core.project.assemble import project_from_files
+    from studio.core.project.gltf import save_gltf
 
     _, project, _, folder = imported
     tiles = project.uv_tiles

@@ -20,17 +20,22 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from studio.core import png, project_file
-from studio.core.errors import ProjectError
-from studio.core.influence import InfluenceArea, InfluenceSetup
-from studio.core.mesh import FaceMesh
-from studio.core.png import PngError, decode_png, encode_png, read_png
-from studio.core.poses import KeyPose
-from studio.core.project import Project
-from studio.core.project_file import FORMAT_VERSION, load_project, save_project
-from studio.core.textures import FaceTextures
-from studio.core.timeline import Key, Timeline, Track
-from studio.core.wdv import WdvArea, WdvSetup
+from studio.core.animation.poses import KeyPose
+from studio.core.animation.timeline import Key, Timeline, Track
+from studio.core.files import png
+from studio.core.files.errors import ProjectError
+from studio.core.files.png import PngError, decode_png, encode_png, read_png
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.project import migrations as project_migrations
+from studio.core.project import reader as project_reader
+from studio.core.project import writer as project_writer
+from studio.core.project.model import Project
+from studio.core.project.reader import load_project
+from studio.core.project.schema import FORMAT_VERSION
+from studio.core.project.writer import save_project
+from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
+from studio.core.wrinkles.textures import FaceTextures
+from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
 MASK_H, MASK_W = 48, 64
 
@@ -298,10 +303,10 @@ def test_older_files_are_migrated(monkeypatch: pytest.MonkeyPatch, saved: Path) 
     def upgrade(doc: dict) -> dict:
         return {**doc, "name": doc["name"] + " (upgraded)"}
 
-    monkeypatch.setattr(project_file, "FORMAT_VERSION", FORMAT_VERSION + 1)
-    monkeypatch.setattr(project_file, "MIGRATIONS", {FORMAT_VERSION: upgrade})
+    monkeypatch.setattr(project_migrations, "FORMAT_VERSION", FORMAT_VERSION + 1)
+    monkeypatch.setattr(project_migrations, "MIGRATIONS", {FORMAT_VERSION: upgrade})
     assert load_project(saved).name == "Test face (upgraded)"
-    monkeypatch.setattr(project_file, "MIGRATIONS", {})
+    monkeypatch.setattr(project_migrations, "MIGRATIONS", {})
     with pytest.raises(ProjectError, match="no longer supported"):
         load_project(saved)
 
@@ -323,7 +328,7 @@ def test_a_failed_replace_leaves_the_old_file(monkeypatch: pytest.MonkeyPatch, t
     def full(*_: Any) -> None:
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(project_file.os, "replace", full)
+    monkeypatch.setattr(project_writer.os, "replace", full)
     project.name = "Changed"
     with pytest.raises(ProjectError, match="disk is full") as info:
         save_project(project, saved)
@@ -344,7 +349,7 @@ def test_a_failure_while_writing_leaves_the_old_file(monkeypatch: pytest.MonkeyP
             raise OSError(errno.EDQUOT, "Disk quota exceeded")
         return npy(array)
 
-    monkeypatch.setattr(project_file, "_npy", failing_npy)
+    monkeypatch.setattr(project_writer, "_npy", failing_npy)
     with pytest.raises(ProjectError, match="quota"):
         save_project(project, saved)
     assert saved.read_bytes() == before
@@ -360,14 +365,14 @@ def test_a_failed_fsync_or_a_bug_leaves_no_temp_file(monkeypatch: pytest.MonkeyP
         raise OSError(errno.EIO, "Input/output error")
 
     with monkeypatch.context() as m:
-        m.setattr(project_file.os, "fsync", broken_fsync)
+        m.setattr(project_writer.os, "fsync", broken_fsync)
         with pytest.raises(ProjectError, match="input/output"):
             save_project(project, saved)
 
     def bug(_: np.ndarray) -> bytes:
         raise RuntimeError("a bug")
 
-    monkeypatch.setattr(project_file, "_mask_png", bug)
+    monkeypatch.setattr(project_writer, "_mask_png", bug)
     with pytest.raises(RuntimeError, match="a bug"):  # bugs are not dressed up as user errors
         save_project(project, saved)
     assert saved.read_bytes() == before
@@ -591,7 +596,7 @@ def test_a_fake_huge_declared_size_is_refused_before_reading(tmp_path: Path,
 
 
 def test_the_total_size_is_capped(monkeypatch: pytest.MonkeyPatch, saved: Path) -> None:
-    monkeypatch.setattr(project_file, "MAX_TOTAL_BYTES", 1000)
+    monkeypatch.setattr(project_reader, "MAX_TOTAL_BYTES", 1000)
     with pytest.raises(ProjectError, match="GiB limit"):
         load_project(saved)
 
@@ -759,7 +764,7 @@ def test_a_reused_process_id_does_not_keep_a_dead_saves_staging_file() -> None:
     made, is not the save that made it."""
     import threading
 
-    from studio.core.project_file import _process_alive
+    from studio.core.files.processes import process_alive as _process_alive
 
     assert _process_alive(os.getpid(), time.time())  # this process, file made just now
     assert not _process_alive(os.getpid(), time.time() - 1e7)  # file older than the process
@@ -780,11 +785,11 @@ def test_a_member_whose_name_leads_outside_the_archive_is_refused(tmp_path: Path
     one for a mask."""
     bad = rewrite(saved, tmp_path / "bad.wrinkle", files={name: b"x"})
     with pytest.raises(ProjectError, match="unsafe name"):
-        project_file.load_project(bad)
+        project_reader.load_project(bad)
 
     def point_a_mask_outside(doc: dict) -> None:
         doc["influence"]["areas"][0]["mask"] = name
 
     named = rewrite(saved, tmp_path / "named.wrinkle", doc=point_a_mask_outside)
     with pytest.raises(ProjectError, match="invalid member"):
-        project_file.load_project(named)
+        project_reader.load_project(named)

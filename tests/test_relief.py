@@ -6,11 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.errors import RenderError
-from studio.core.normalmap import height_to_normal
-from studio.core.relief import height_from_normals, relief_image, wrinkle_heights
-from studio.core.sample import sample_landmarks
-from studio.core.textures import flat_normal_map
+from studio.core.files.errors import RenderError
+from studio.core.project.sample import sample_landmarks
+from studio.core.wrinkles.normalmap import height_to_normal
+from studio.core.wrinkles.relief import height_from_normals, relief_image, wrinkle_heights
+from studio.core.wrinkles.textures import flat_normal_map
 from studio.render import renderer as renderer_module
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import FaceRenderer, RenderSettings

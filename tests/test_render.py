@@ -7,7 +7,7 @@ import copy
 import numpy as np
 import pytest
 
-from studio.core.influence import InfluenceArea
+from studio.core.wrinkles.influence import InfluenceArea
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 from tests.regions import landmark_pixels, region_difference

@@ -8,7 +8,7 @@ import pytest
 from PIL import Image
 
 from studio.cli import main
-from studio.core.sample import make_sample
+from studio.core.project.sample import make_sample
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 
@@ -85,8 +85,8 @@ def test_bad_frame_ranges_and_outputs_are_one_line_and_exit_2(tmp_path, capsys, 
 
 
 def test_a_project_without_animation_says_so(tmp_path, capsys):
-    from studio.core.project_file import save_project
-    from studio.core.timeline import Timeline
+    from studio.core.animation.timeline import Timeline
+    from studio.core.project.writer import save_project
 
     project = make_sample(561, 64, 32)
     project.timeline = Timeline()

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.influence import InfluenceArea
-from studio.core.sample_maps import BROW_MAP, EYE_MAP
+from studio.core.project.sample_maps import BROW_MAP, EYE_MAP
+from studio.core.wrinkles.influence import InfluenceArea
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 from tests.regions import landmark_pixels, region_difference

@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.normalmap import flip_green, height_to_normal
-from studio.core.sample import landmark_uvs, make_sample, sample_landmarks
-from studio.core.sample_mesh import build_geometry
+from studio.core.project.sample import landmark_uvs, make_sample, sample_landmarks
+from studio.core.project.sample_mesh import build_geometry
+from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 
 POSES = ["brow_raise_right", "brow_raise_left", "surprise", "squeeze", "frown"]
 MASKS = ["forehead right", "forehead left", "between brows", "eye corner right",

@@ -19,15 +19,17 @@ from pathlib import Path
 
 import pytest
 
-from studio.core.project_file import backup_path, load_project, save_project
-from studio.core.sample import make_sample
+from studio.core.project.reader import load_project
+from studio.core.project.sample import make_sample
+from studio.core.project.writer import backup_path, save_project
 
 KILLS = int(os.environ.get("WRINKLE_SAVE_KILLS", "30"))
 ROOT = Path(__file__).resolve().parents[1]
 
 CHILD = """
 import sys
-from studio.core.project_file import load_project, save_project
+from studio.core.project.reader import load_project
+from studio.core.project.writer import save_project
 path, run = sys.argv[1], sys.argv[2]
 project = load_project(path)
 print("ready", flush=True)

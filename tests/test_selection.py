@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core import selection as sel
-from studio.core.camera import OrbitCamera
-from studio.core.geometry import vertex_normals
+from studio.core.mesh import selection as sel
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.mesh.geometry import vertex_normals
 
 
 def grid(n: int = 5, spacing: float = 1.0, z: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -167,7 +167,7 @@ def test_nearest_vertex_to_a_click():
 def test_selection_stays_fast_on_30000_vertices():
     """A box selection and the mirror map on a 30k-vertex face (their speed is measured by
     the studio's own timing in the status bar, not asserted here)."""
-    from studio.core.sample import make_sample
+    from studio.core.project.sample import make_sample
 
     mesh = make_sample(30000, texture_size=16, mask_size=16).mesh
     pts = mesh.rest.astype(np.float64)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.skin_strain import WRINKLING_COMPRESSION, SkinStrain, compression_weights
+from studio.core.wrinkles.skin_strain import WRINKLING_COMPRESSION, SkinStrain, compression_weights
 from tests.test_auto_setup import grid_mesh
 
 

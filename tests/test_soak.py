@@ -23,8 +23,8 @@ import pytest
 from PySide6.QtCore import SIGNAL, QMetaMethod, QObject
 from PySide6.QtWidgets import QApplication
 
-from studio.core.brush import Brush
-from studio.widgets.mask_edits import PaintSession
+from studio.core.wrinkles.brush import Brush
+from studio.widgets.paint.edits import PaintSession
 
 # Run in every test run at these counts (a few minutes under software GL); the figures in
 # docs/reliability.md come from WRINKLE_SOAK_FRAMES=10000 WRINKLE_SOAK_STROKES=1000.

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from studio.core.mesh import FaceMesh
-from studio.core.sample import make_sample, sample_landmarks
-from studio.core.strain import StrainField
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.project.sample import make_sample, sample_landmarks
+from studio.core.wrinkles.strain import StrainField
 
 
 def strip() -> FaceMesh:

@@ -14,9 +14,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.brush import Brush, Stroke
-from studio.core.mesh import FaceMesh
-from studio.core.surface_mirror import (
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.wrinkles.brush import Brush, Stroke
+from studio.core.wrinkles.surface_mirror import (
     SurfaceMirror,
     TriangleGrid,
     closest_on_triangles,
@@ -166,7 +166,7 @@ def test_the_brush_footprint_on_the_surface_is_the_uv_circle_carried_over():
 
 
 def test_on_the_sample_face_the_left_cheek_mirrors_onto_the_right_cheek():
-    from studio.core.sample import landmark_uvs, make_sample
+    from studio.core.project.sample import landmark_uvs, make_sample
 
     mirror = SurfaceMirror(make_sample().mesh)
     uvs = landmark_uvs()

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from studio.core.timeline import INTERPOLATIONS, Key, Timeline, Track, sequence_all_poses
+from studio.core.animation.timeline import INTERPOLATIONS, Key, Timeline, Track, sequence_all_poses
 
 
 def track(mode: str) -> Track:
@@ -103,7 +103,7 @@ def test_from_dict_sorts_keys_and_rejects_bad_ranges():
 
 
 def test_the_sample_ships_with_an_animation_of_every_pose():
-    from studio.core.sample import POSES, make_sample
+    from studio.core.project.sample import POSES, make_sample
 
     project = make_sample()
     assert [t.pose for t in project.timeline.tracks] == list(POSES)

@@ -10,10 +10,10 @@ import pytest
 from PIL import Image
 from PySide6.QtCore import QPoint, Qt
 
-from studio.core.project_file import load_project
-from studio.core.timeline import Timeline
+from studio.core.animation.timeline import Timeline
+from studio.core.project.reader import load_project
 from studio.widgets.export_dialog import ExportDialog, ExportOptions, export_animation
-from studio.widgets.timeline_panel import activation_curves
+from studio.widgets.timeline.panel import activation_curves
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
 

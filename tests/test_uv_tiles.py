@@ -5,11 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.errors import StudioError
-from studio.core.images import write_png
-from studio.core.mesh import FaceMesh
-from studio.core.texture_sets import find_tile_set, load_texture
-from studio.core.uv_tiles import (
+from studio.core.files.errors import StudioError
+from studio.core.files.images import write_png
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.uv_tiles import (
     SINGLE,
     TileLayout,
     compose_atlas,
@@ -18,6 +17,7 @@ from studio.core.uv_tiles import (
     triangle_tiles,
     udim,
 )
+from studio.core.project.texture_sets import find_tile_set, load_texture
 
 
 def test_udim_numbers_follow_the_convention():

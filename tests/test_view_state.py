@@ -3,7 +3,7 @@ viewport."""
 
 from __future__ import annotations
 
-from studio.core.view_settings import ViewSettings
+from studio.core.project.view_settings import ViewSettings
 
 
 def test_unknown_choices_and_wrong_types_fall_back_to_defaults():

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt
 
-from studio.core.project_file import load_project
-from studio.widgets import wdv_edits as edits
+from studio.core.project.reader import load_project
 from studio.widgets.main_window import MainWindow
+from studio.widgets.wdv import edits
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
 
@@ -235,7 +235,7 @@ def test_box_and_click_select_on_a_30000_vertex_face(qtbot, dialogs):
     """A box drag and a click through the viewport on a 30k-vertex face pick what they cover.
     (How fast is the benchmark's business: a timing assert here failed on busy machines and
     passed on broken code alike.)"""
-    from studio.core.sample import make_sample
+    from studio.core.project.sample import make_sample
 
     w = MainWindow(make_sample(30000, texture_size=256, mask_size=64))
     w.resize(1600, 1000)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from studio.core.wdv import SLOTS, WdvArea, WdvSetup
+from studio.core.wrinkles.wdv import SLOTS, WdvArea, WdvSetup
 
 
 def area(name: str, lengths: list[float], **kwargs) -> WdvArea:

@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core import wrinkle_synth as synth
-from studio.core.errors import StudioError
-from studio.core.skin_strain import triangle_strain
-from studio.core.textures import flat_normal_map
+from studio.core.files.errors import StudioError
+from studio.core.setup import wrinkle_synth as synth
+from studio.core.wrinkles.skin_strain import triangle_strain
+from studio.core.wrinkles.textures import flat_normal_map
 from tests.test_auto_setup import grid_mesh, grid_project, squeezed
 
 SIZE = 128

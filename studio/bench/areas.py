@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from studio.core.influence import InfluenceArea, InfluenceSetup
+from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 
 
 def blob_mask(size: int, centre: tuple[float, float], radius: float) -> np.ndarray:

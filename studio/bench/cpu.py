@@ -17,10 +17,10 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from studio.bench.areas import benchmark_areas
-from studio.core.geometry import DeformCache
-from studio.core.poses import PoseBlender
-from studio.core.sample import make_sample
-from studio.core.timeline import sequence_all_poses
+from studio.core.animation.poses import PoseBlender
+from studio.core.animation.timeline import sequence_all_poses
+from studio.core.mesh.geometry import DeformCache
+from studio.core.project.sample import make_sample
 
 
 def _median_ms(step: Callable[[int], object], count: int, repeat: int) -> float:

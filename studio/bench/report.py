@@ -34,7 +34,7 @@ def table(results: Sequence[Result]) -> str:
 def write_csv(results: Sequence[Result], path: Path) -> None:
     import io
 
-    from studio.core.atomic_write import write_atomic
+    from studio.core.files.atomic_write import write_atomic
 
     text = io.StringIO(newline="")
     writer = csv.DictWriter(text, fieldnames=COLUMNS, extrasaction="ignore")
@@ -109,7 +109,7 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
         ly = top + 14 + 16 * k
         draw.line((w - right - 230, ly, w - right - 212, ly), fill=colour, width=3)
         draw.text((w - right - 206, ly - 7), name, fill=colour)
-    from studio.core.atomic_write import atomic_output
+    from studio.core.files.atomic_write import atomic_output
 
     with atomic_output(path, what="plot") as handle:
         img.save(handle, format="PNG")

@@ -12,11 +12,11 @@ import numpy as np
 
 from studio.bench.areas import benchmark_areas
 from studio.bench.configs import Config
-from studio.core.geometry import DeformCache
-from studio.core.poses import PoseBlender
-from studio.core.project import Project
-from studio.core.timeline import Timeline, sequence_all_poses
-from studio.core.view_settings import ViewSettings
+from studio.core.animation.poses import PoseBlender
+from studio.core.animation.timeline import Timeline, sequence_all_poses
+from studio.core.mesh.geometry import DeformCache
+from studio.core.project.model import Project
+from studio.core.project.view_settings import ViewSettings
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import render_settings
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from studio.core.errors import StudioError
+from studio.core.files.errors import StudioError
 
 
 def parse_resolution(text: str) -> int:
@@ -37,11 +37,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.bake import bake_normal_map, check_hits, default_max_distance
-    from studio.core.images import write_png
-    from studio.core.meshio import load_mesh
-    from studio.core.project_file import load_project, save_project
-    from studio.core.safe_io import check_output
+    from studio.core.files.images import write_png
+    from studio.core.files.safe_io import check_output
+    from studio.core.mesh.meshio import load_mesh
+    from studio.core.project.reader import load_project
+    from studio.core.project.writer import save_project
+    from studio.core.wrinkles.bake import bake_normal_map, check_hits, default_max_distance
 
     if not args.png and not args.output:
         raise StudioError("say where the map goes: --png OUT.png and/or -o OUT.wrinkle")

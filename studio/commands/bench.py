@@ -8,7 +8,7 @@ from itertools import groupby
 from pathlib import Path
 
 from studio.commands.options import parse_size
-from studio.core.errors import StudioError
+from studio.core.files.errors import StudioError
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from studio.bench.configs import configurations
     from studio.bench.report import table, write_csv, write_plots
     from studio.bench.runner import PASSES, time_configurations
-    from studio.core.sample import make_sample
+    from studio.core.project.sample import make_sample
     from studio.render.offscreen import create_standalone_context
 
     frames = min(args.frames, 20) if args.quick else args.frames

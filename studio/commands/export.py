@@ -17,10 +17,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.export import export_folder
-    from studio.core.gltf import save_gltf
-    from studio.core.project_file import load_project
-    from studio.core.safe_io import check_output
+    from studio.core.files.safe_io import check_output
+    from studio.core.project.export import export_folder
+    from studio.core.project.gltf import save_gltf
+    from studio.core.project.reader import load_project
 
     if args.gltf:
         check_output(args.gltf, [args.project], what="glTF file")

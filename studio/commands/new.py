@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from studio.core.errors import StudioError
+from studio.core.files.errors import StudioError
 
 
 def parse_pose(text: str) -> tuple[str, str]:
@@ -46,11 +46,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.assemble import project_from_files
-    from studio.core.face_frame import face_frame, face_locator, parse_axis
-    from studio.core.normalmap import flip_green
-    from studio.core.project_file import save_project
-    from studio.core.safe_io import check_output
+    from studio.core.files.safe_io import check_output
+    from studio.core.project.assemble import project_from_files
+    from studio.core.project.writer import save_project
+    from studio.core.setup.face_frame import face_frame, face_locator, parse_axis
+    from studio.core.wrinkles.normalmap import flip_green
 
     if args.up is not None:
         parse_axis(args.up)  # a bad axis fails before any work
@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     frame = face_frame(project)
     done = []
     if args.auto:
-        from studio.core.auto_setup import auto_start
+        from studio.core.setup.auto_setup import auto_start
 
         done = auto_start(project, locate=face_locator(frame))
     out = Path(args.output)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from studio.core.errors import StudioError
+from studio.core.files.errors import StudioError
 
 EXIT_USAGE = 2  # every problem the user can cause: one line on stderr and this exit code
 
@@ -18,7 +18,7 @@ def parse_size(text: str) -> tuple[int, int]:
         raise argparse.ArgumentTypeError(f"'{text}' is not a size like 1280x720") from None
     if not (1 <= w <= 16384 and 1 <= h <= 16384):
         raise argparse.ArgumentTypeError(f"'{text}': width and height must be 1 to 16384")
-    from studio.core.budgets import RENDER_PIXELS
+    from studio.core.files.budgets import RENDER_PIXELS
 
     try:  # colour and depth, multisampled: 16384x16384 is over 9 GB of framebuffers
         RENDER_PIXELS.check(w * h, f"'{text}'", error=StudioError, hint="choose a smaller size")
@@ -40,10 +40,10 @@ def parse_vertices(text: str) -> int:
 def load_project_or_sample(path: str | None, vertices: int | None):
     """The project at ``path``, or the bundled sample face at the requested resolution."""
     if path is None:
-        from studio.core.sample import make_sample
+        from studio.core.project.sample import make_sample
 
         return make_sample(vertices) if vertices else make_sample()
-    from studio.core.project_file import load_project
+    from studio.core.project.reader import load_project
 
     if vertices:
         raise StudioError("--vertices applies to the bundled sample, not to a project file")

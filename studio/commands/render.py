@@ -7,14 +7,14 @@ import argparse
 from collections.abc import Callable
 
 from studio.commands.options import load_project_or_sample, parse_size, parse_vertices
-from studio.core import atomic_write, safe_io
-from studio.core.errors import StudioError
-from studio.core.face_frame import aim, parse_axis
-from studio.core.input_checks import finite_float
-from studio.core.project import Project
-from studio.core.relief import suggested_relief_depth
-from studio.core.techniques import TECHNIQUES
-from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
+from studio.core.files import atomic_write, safe_io
+from studio.core.files.errors import StudioError
+from studio.core.files.input_checks import finite_float
+from studio.core.project.model import Project
+from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
+from studio.core.setup.face_frame import aim, parse_axis
+from studio.core.wrinkles.relief import suggested_relief_depth
+from studio.core.wrinkles.techniques import TECHNIQUES
 from studio.render.animation import (
     AnimationWriter,
     animation_weights,

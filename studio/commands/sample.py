@@ -16,9 +16,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.project_file import save_project
-    from studio.core.safe_io import check_output
-    from studio.core.sample import make_sample
+    from studio.core.files.safe_io import check_output
+    from studio.core.project.sample import make_sample
+    from studio.core.project.writer import save_project
 
     out = check_output(args.output, what="project")
     save_project(make_sample(args.vertices), out)

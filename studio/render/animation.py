@@ -10,10 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from studio.core import atomic_write, budgets, safe_io
-from studio.core.errors import StudioError
-from studio.core.input_checks import check_frame_pattern
-from studio.core.project import Project
+from studio.core.files import atomic_write, budgets, safe_io
+from studio.core.files.errors import StudioError
+from studio.core.files.input_checks import check_frame_pattern
+from studio.core.project.model import Project
 
 
 def frame_path(pattern: str, frame: int) -> Path:
@@ -59,7 +59,7 @@ class AnimationWriter:
         """Check every destination (not an input, writable) before the first frame; the GIF
         and the video go to temporary files renamed into place by :meth:`close` (``abort``
         removes them), the GIF streamed frame by frame (``step`` frames apart in time)."""
-        from studio.core.gif_stream import GifStream
+        from studio.core.files.gif_stream import GifStream
 
         self.fps, self.pattern, self.inputs = fps, pattern, list(inputs)
         self.gif, self.video = (Path(gif) if gif else None), (Path(video) if video else None)

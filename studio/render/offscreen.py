@@ -7,10 +7,10 @@ from collections.abc import Mapping
 import moderngl
 import numpy as np
 
-from studio.core.camera import OrbitCamera
-from studio.core.errors import RenderError
-from studio.core.face_frame import aim
-from studio.core.project import Project
+from studio.core.files.errors import RenderError
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.project.model import Project
+from studio.core.setup.face_frame import aim
 from studio.render.renderer import FaceRenderer, RenderSettings
 from studio.render.scene import ProjectScene
 

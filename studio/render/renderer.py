@@ -13,17 +13,17 @@ from dataclasses import dataclass, replace
 import moderngl
 import numpy as np
 
-from studio.core.camera import OrbitCamera
-from studio.core.draw_split import moved
-from studio.core.geometry import DeformCache
-from studio.core.mask_sparse import quantise, sparse_masks
-from studio.core.mesh import FaceMesh
-from studio.core.relief import DEFAULT_RELIEF_DEPTH, maps_digest, relief_image
-from studio.core.strain import DEFAULT_FULL_AT, StrainField
-from studio.core.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
-from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
-from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS
-from studio.core.wdv import SLOTS, WdvSlots
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.mesh.draw_split import moved
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import DeformCache
+from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS
+from studio.core.wrinkles.mask_sparse import quantise, sparse_masks
+from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH, maps_digest, relief_image
+from studio.core.wrinkles.strain import DEFAULT_FULL_AT, StrainField
+from studio.core.wrinkles.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
+from studio.core.wrinkles.textures import FaceTextures, pack_more_maps, pack_normal_maps
+from studio.core.wrinkles.wdv import SLOTS, WdvSlots
 from studio.render.shaders import build_program
 from studio.render.triangle_split import TriangleSplit
 
@@ -188,7 +188,7 @@ class FaceRenderer:
     def set_textures(self, textures: FaceTextures) -> None:
         """Diffuse map; the neutral and first wrinkled normal maps packed into one texture (one
         fetch blends them); further wrinkled maps in an array read only where they show."""
-        from studio.core.errors import RenderError
+        from studio.core.files.errors import RenderError
 
         max_size = int(self.ctx.info.get("GL_MAX_TEXTURE_SIZE") or 0)
         named = {"diffuse": textures.diffuse, "neutral normal": textures.normal_neutral,
@@ -241,10 +241,10 @@ class FaceRenderer:
         self._relief_maps = (textures.normal_neutral, list(textures.wrinkle_maps.values()))
 
     def _ensure_relief(self) -> None:
-        """The wrinkle-height texture (studio/core/relief.py) for the current maps."""
+        """The wrinkle-height texture (studio/core/wrinkles/relief.py) for the current maps."""
         if self._relief_maps is None:
             return
-        from studio.core.errors import RenderError
+        from studio.core.files.errors import RenderError
 
         digest = maps_digest(*self._relief_maps)
         if self._relief is not None and digest == self._relief_digest:
@@ -277,7 +277,7 @@ class FaceRenderer:
             masks = np.zeros((1, 1, 1), np.float32)
         n, h, w = masks.shape
         # GPU limits: refuse with a clear message what the driver would fail on or crash with
-        from studio.core.errors import RenderError
+        from studio.core.files.errors import RenderError
 
         info = self.ctx.info
         max_layers = int(info.get("GL_MAX_ARRAY_TEXTURE_LAYERS") or 0)
@@ -438,7 +438,7 @@ class FaceRenderer:
             raise RuntimeError("FaceRenderer.render called before set_mesh")
         relief = settings.active_relief
         if relief == "displace" and not self.can_displace:
-            from studio.core.errors import RenderError
+            from studio.core.files.errors import RenderError
 
             v = self.ctx.version_code
             raise RenderError(f"relief 'displace' needs OpenGL 4.0 (tessellation shaders); "

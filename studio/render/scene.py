@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from studio.core.poses import PoseBlender
-from studio.core.project import Project
+from studio.core.animation.poses import PoseBlender
+from studio.core.project.model import Project
 from studio.render.renderer import FaceRenderer
 
 

@@ -3,7 +3,7 @@ reaches the renderer, for the viewport, the animation export, the command line a
 
 from __future__ import annotations
 
-from studio.core.view_settings import ViewSettings
+from studio.core.project.view_settings import ViewSettings
 from studio.render.renderer import RenderSettings
 
 

@@ -1,8 +1,8 @@
 """The face's index buffer in draw order: the triangles that can show wrinkles this frame first,
 drawn with the technique's program, then the rest, drawn with the technique-off program (the
 identical picture where the wrinkle weight is 0, at a fraction of the cost), each group nearest
-first for the current view (see studio/core/draw_split.py). The buffer is rewritten only when the
-split changes or the view turns by more than ``RESORT_DEGREES``."""
+first for the current view (see studio/core/mesh/draw_split.py). The buffer is rewritten only
+when the split changes or the view turns by more than ``RESORT_DEGREES``."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from collections.abc import Callable
 import moderngl
 import numpy as np
 
-from studio.core.draw_split import (
+from studio.core.mesh.draw_split import (
     any_corner,
     boxes_touch,
     nearest_first,

@@ -12,8 +12,8 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from studio.core.camera import OrbitCamera
-from studio.core.wdv import WdvSetup
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.wrinkles.wdv import WdvSetup
 from studio.render.shaders import build_program
 
 Array = np.ndarray

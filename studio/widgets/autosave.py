@@ -45,9 +45,9 @@ import numpy as np
 from PySide6.QtCore import QEvent, QObject, QStandardPaths, Qt, QTimer, Signal
 from PySide6.QtWidgets import QMessageBox
 
-from studio.core import project_file as project_io
-from studio.core.errors import StudioError
-from studio.core.project import Project
+from studio.core.files.errors import StudioError
+from studio.core.project import reader, writer
+from studio.core.project.model import Project
 from studio.widgets.app_settings import settings
 
 try:  # advisory locks: POSIX only
@@ -297,7 +297,7 @@ class Autosaver(QObject):
     def _write(job: _Job, relay: _Relay) -> None:
         """The worker thread: write the snapshot atomically, then its description."""
         try:
-            project_io.save_project(job.project, job.target, backup=False)
+            writer.save_project(job.project, job.target, backup=False)
             _write_json(job.target.with_suffix(".json"), job.meta)
         except Exception as exc:  # any failure must reach the GUI thread,
             job.error = exc  # or autosaving would stop for good without a word
@@ -431,7 +431,7 @@ class Autosaver(QObject):
             if answer != QMessageBox.StandardButton.Yes:
                 continue
             try:
-                project = project_io.load_project(item.project_file)
+                project = reader.load_project(item.project_file)
             except StudioError as exc:
                 self.window.show_error("Cannot recover project", exc)
                 continue

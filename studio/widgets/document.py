@@ -14,12 +14,12 @@ import numpy as np
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoStack
 
-from studio.core.camera import OrbitCamera
-from studio.core.face_frame import FaceFrame, aim, face_frame
-from studio.core.project import Project
-from studio.core.relief import suggested_relief_depth
-from studio.core.view_settings import ViewSettings
-from studio.core.wdv import WdvArea
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.project.model import Project
+from studio.core.project.view_settings import ViewSettings
+from studio.core.setup.face_frame import FaceFrame, aim, face_frame
+from studio.core.wrinkles.relief import suggested_relief_depth
+from studio.core.wrinkles.wdv import WdvArea
 from studio.widgets.commands import ValueCommand
 
 
@@ -71,7 +71,7 @@ class Document(QObject):
             self.view = self.view.with_changes(
                 relief_depth=suggested_relief_depth(*project.mesh.bounds()))
         # selected vertices (welded indices) for technique-2 authoring; changed by commands in
-        # studio/widgets/wdv_edits.py, announced by selectionChanged
+        # studio/widgets/wdv/edits.py, announced by selectionChanged
         self.selection = np.zeros(project.mesh.n_welded, dtype=bool)
         self.frame = float(project.view.get("frame", project.timeline.start))  # the playhead
         self._face: FaceFrame | None = None  # found when first asked for

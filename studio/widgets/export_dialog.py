@@ -26,8 +26,8 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from studio.core.errors import StudioError
-from studio.core.techniques import TECHNIQUE_LIST
+from studio.core.files.errors import StudioError
+from studio.core.wrinkles.techniques import TECHNIQUE_LIST
 from studio.render.animation import (
     AnimationWriter,
     animation_weights,

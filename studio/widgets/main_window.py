@@ -18,27 +18,27 @@ from PySide6.QtWidgets import (
 )
 
 from studio import __version__
-from studio.core.errors import StudioError
-from studio.core.project import Project
+from studio.core.files.errors import StudioError
+from studio.core.project.model import Project
 from studio.widgets.app_settings import settings
-from studio.widgets.auto_tools import install_auto_tools
 from studio.widgets.autosave import install_autosave
-from studio.widgets.bake_tools import install_bake_tools
 from studio.widgets.document import Document
-from studio.widgets.map_tools import install_map_tools
-from studio.widgets.mask_tools import install_mask_tools
-from studio.widgets.pose_panel import PosePanel
-from studio.widgets.shading_panel import ShadingPanel
-from studio.widgets.timeline_tools import install_timeline_tools
-from studio.widgets.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
-from studio.widgets.wdv_panel import install_wdv_tools
+from studio.widgets.maps.auto_tools import install_auto_tools
+from studio.widgets.maps.bake_tools import install_bake_tools
+from studio.widgets.maps.map_tools import install_map_tools
+from studio.widgets.paint.tools import install_mask_tools
+from studio.widgets.timeline.pose_panel import PosePanel
+from studio.widgets.timeline.tools import install_timeline_tools
+from studio.widgets.viewport.shading_panel import ShadingPanel
+from studio.widgets.viewport.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
+from studio.widgets.wdv.panel import install_wdv_tools
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
 
 
 def sample_project() -> Project:
-    from studio.core.sample import make_sample
+    from studio.core.project.sample import make_sample
 
     return make_sample()
 
@@ -260,7 +260,7 @@ class MainWindow(QMainWindow):
 
     def open_path(self, path: Path) -> bool:
         """Open a project; on failure say why and keep the open project untouched."""
-        from studio.core.project_file import load_project
+        from studio.core.project.reader import load_project
 
         try:
             project = load_project(path)
@@ -312,7 +312,7 @@ class MainWindow(QMainWindow):
         return self.save_to(path)
 
     def save_to(self, path: Path) -> bool:
-        from studio.core.project_file import save_project
+        from studio.core.project.writer import save_project
 
         self.doc.store_view_state()
         try:
@@ -382,8 +382,8 @@ class MainWindow(QMainWindow):
     def grab_when_rendered(self, out: Path, on_done) -> None:
         """Save a screenshot of the whole window once the viewport has drawn (docs, CI)."""
         def grab() -> None:
-            from studio.core.atomic_write import atomic_output
-            from studio.core.errors import StudioError
+            from studio.core.files.atomic_write import atomic_output
+            from studio.core.files.errors import StudioError
 
             image = self.grab()
             try:  # a temporary file renamed into place: never a half-written screenshot

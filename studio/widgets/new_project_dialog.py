@@ -31,13 +31,13 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from studio.core.assemble import project_from_files, suggest_not_face
-from studio.core.auto_setup import auto_start
-from studio.core.errors import StudioError
-from studio.core.face_frame import face_frame, face_locator
-from studio.core.meshio import ObjGroup, obj_groups
-from studio.core.normalmap import flip_green
-from studio.core.project import Project
+from studio.core.files.errors import StudioError
+from studio.core.mesh.meshio import ObjGroup, obj_groups
+from studio.core.project.assemble import project_from_files, suggest_not_face
+from studio.core.project.model import Project
+from studio.core.setup.auto_setup import auto_start
+from studio.core.setup.face_frame import face_frame, face_locator
+from studio.core.wrinkles.normalmap import flip_green
 from studio.widgets.app_settings import settings
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.progress import progress_dialog

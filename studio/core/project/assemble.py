@@ -1,0 +1,120 @@
+"""A new project from the user's own files: neutral mesh, key-pose meshes, texture maps.
+
+Shared by File ▸ New from Files and the command line. Missing normal maps default to flat ones
+(a face may come with no detail at rest, or no wrinkled map yet); a missing diffuse map to plain
+skin colour. An OBJ's objects, groups and materials can be kept in part (``keep``) and marked as
+not face (``not_face``: eyes, teeth — never wrinkled). UDIM-tiled UVs are packed into one atlas
+and texture sets composed into it (``uv_tiles``, ``texture_sets``).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Collection, Iterable, Mapping
+from pathlib import Path
+
+import numpy as np
+
+from studio.core.animation.poses import NEUTRAL
+from studio.core.files.errors import MeshError
+from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices
+from studio.core.mesh.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
+from studio.core.project.model import Project
+from studio.core.project.texture_sets import load_texture
+from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
+
+FLAT_NORMAL = (128, 128, 255)
+
+
+# Part names that are usually not skin: eyeballs, teeth, tongue, lashes... ("eyelid" is skin).
+_NOT_SKIN = re.compile(
+    r"(^|[^a-z])(eyes?|eyeballs?|cornea|iris|pupils?|teeth|tooth|tongue|gums?|lash(es)?|"
+    r"eyelash(es)?|mouth_?bag|caruncle|tear_?line|occlusion)([^a-z]|$)", re.IGNORECASE)
+
+
+def suggest_not_face(names: Iterable[str]) -> list[str]:
+    """The part names that look like eyes, teeth or tongue: a starting choice for the user."""
+    return [name for name in names if _NOT_SKIN.search(name.replace(" ", "_"))]
+
+
+def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
+                       diffuse: str | Path | None = None, normal: str | Path | None = None,
+                       wrinkled: str | Path | None = None, name: str | None = None, *,
+                       keep: Collection[str] | None = None,
+                       not_face: Collection[str] = (), part_kind: str | None = None) -> Project:
+    """``keep``: the OBJ parts (objects, groups, materials) to load, None for all; ``not_face``:
+    parts whose vertices get no wrinkles (``Project.not_face``); ``part_kind``: "object",
+    "group" or "material" when the names are of that kind only (None: any)."""
+    if Path(mesh).suffix.lower() in (".glb", ".gltf"):
+        if keep is not None or not_face:
+            raise MeshError("only OBJ files have groups or materials to choose from", mesh)
+        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name)
+    face = load_mesh(mesh, keep, part_kind)
+    flags = not_face_vertices(face, not_face, part_kind) if not_face else None
+    if flags is not None and flags.all():
+        raise MeshError(f"marking {', '.join(sorted(not_face))} as not face leaves no skin "
+                        "to wrinkle", mesh)
+    key_poses = []
+    for pose_name, pose_path in (poses or {}).items():
+        if pose_name == NEUTRAL or pose_name in (p.name for p in key_poses):
+            raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
+        key_poses.append(load_pose(pose_path, face, pose_name))
+    not_skin = flags if flags is not None and flags.any() else None
+    face, tiles = pack_mesh(face, None if not_skin is None else ~not_skin)
+    layout = tiles.layout if tiles is not None else None
+    textures = FaceTextures(
+        diffuse=_texture(diffuse, layout, SKIN) if diffuse else plain_diffuse(),
+        normal_neutral=_texture(normal, layout, FLAT_NORMAL) if normal else flat_normal_map(),
+        normal_wrinkled=_texture(wrinkled, layout, FLAT_NORMAL) if wrinkled
+        else flat_normal_map(),
+    )
+    return Project(name or Path(mesh).stem, face, key_poses, textures, not_face=not_skin,
+                   uv_tiles=tiles)
+
+
+def _embedded_to_atlas(textures: FaceTextures, layout: TileLayout) -> None:
+    """A glTF's own maps (one image each, for the first tile) placed in the atlas."""
+    def place(image: np.ndarray, fill: tuple[int, int, int]) -> np.ndarray:
+        size = atlas_size(layout, max(image.shape[:2]))
+        return compose_atlas({FIRST_TILE: image}, layout, np.array(fill, np.uint8), size)
+
+    textures.diffuse = place(textures.diffuse, SKIN)
+    textures.normal_neutral = place(textures.normal_neutral, FLAT_NORMAL)
+    for name, image in list(textures.wrinkle_maps.items()):
+        textures.set_wrinkle_map(name, place(image, FLAT_NORMAL))
+
+
+def _texture(path: str | Path, layout: TileLayout | None, fill: tuple[int, int, int]
+             ) -> np.ndarray:
+    """A texture file, or a UDIM set of them composed into the face's atlas."""
+    return load_texture(path, layout, np.array(fill, np.uint8))
+
+
+def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
+               diffuse: str | Path | None, normal: str | Path | None,
+               wrinkled: str | Path | None, name: str | None) -> Project:
+    """A glTF brings its morph targets as key poses and its textures; files given override."""
+    from studio.core.project.gltf import load_gltf
+
+    project = load_gltf(path)
+    if project.uv_tiles is None:  # a glTF from elsewhere with UDIM coordinates
+        project.mesh, project.uv_tiles = pack_mesh(project.mesh, None if project.not_face is None
+                                                   else ~project.not_face)
+        if project.uv_tiles is not None:  # its own images are tile 1001's
+            _embedded_to_atlas(project.textures, project.uv_tiles.layout)
+    layout = project.uv_tiles.layout if project.uv_tiles is not None else None
+    for pose_name, pose_path in (poses or {}).items():
+        if pose_name in project.pose_names:
+            raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
+        project.poses.append(load_pose(pose_path, project.mesh, pose_name))
+    textures = project.textures
+    for attr, file in (("diffuse", diffuse), ("normal_neutral", normal),
+                       ("normal_wrinkled", wrinkled)):
+        if file:
+            setattr(textures, attr, _texture(file, layout, SKIN if attr == "diffuse"
+                                             else FLAT_NORMAL))
+    project.textures = FaceTextures(textures.diffuse, textures.normal_neutral,  # re-checked
+                                    wrinkle_maps=dict(textures.wrinkle_maps))
+    if name:
+        project.name = name
+    return project

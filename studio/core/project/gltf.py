@@ -1,0 +1,499 @@
+"""glTF 2.0 in and out: faces with morph targets become projects, projects become GLB files an
+engine can use.
+
+Import: the first triangle primitive with UVs; its morph targets become key poses (named from
+``extras.targetNames``); the material's base-colour and normal textures become the diffuse and
+neutral normal maps. Export: render vertices with UVs, one morph target per key pose, the
+textures, and each technique-2 area as custom vertex attributes ``_WRINKLE_DIR_<n>`` (VEC3) and
+``_WRINKLE_LEN_<n>`` (SCALAR), plus ``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where
+painted and ``_NOT_FACE`` (1 on vertices never wrinkled) where marked. Everything else the
+studio authored (masks as 16-bit PNG images, further wrinkled maps, which map each area reveals,
+links, cone angles, the timeline) rides in ``extras.wrinkleStudio``, so a file exported here
+imports back with nothing lost.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import struct
+from pathlib import Path
+
+import numpy as np
+
+from studio.core.animation.poses import KeyPose
+from studio.core.animation.timeline import Timeline
+from studio.core.files.budgets import FILE_BYTES, MESH_VERTICES, POSES, check_json_depth
+from studio.core.files.errors import MeshError
+from studio.core.files.images import decode_image
+from studio.core.files.png import encode_png
+from studio.core.files.safe_io import read_regular
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.meshio import mesh_from_render_vertices
+from studio.core.mesh.uv_tiles import TileLayout, UvTiles
+from studio.core.project.model import Project
+from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
+from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
+from studio.core.wrinkles.wdv import WdvArea, WdvSetup
+
+Array = np.ndarray
+MAGIC, JSON_CHUNK, BIN_CHUNK = b"glTF", 0x4E4F534A, 0x004E4942
+COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32,
+              5126: np.float32}
+WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+EXTRAS_KEY = "wrinkleStudio"
+
+
+# --- reading ---------------------------------------------------------------------------------
+def _whole(value: object) -> bool:
+    """A JSON whole number of 0 or more (not a bool, float or string)."""
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _list(g: _Gltf, obj: dict, key: str) -> list:
+    value = obj.get(key, [])
+    if not isinstance(value, list):
+        raise MeshError(f"'{key}' is not a JSON list", g.path)
+    return value
+
+
+def _item(g: _Gltf, key: str, index: object, items: list | None = None) -> dict:
+    """``doc[key][index]``, refusing an index that is not a whole number in range (Python
+    would read a negative one from the end) and an entry that is not a JSON object."""
+    items = _list(g, g.doc, key) if items is None else items
+    if not _whole(index) or index >= len(items):
+        raise MeshError(f"a reference to {key}[{index!r}], which does not exist (the file has "
+                        f"{len(items)})", g.path)
+    item = items[index]
+    if items is not g.buffers and not isinstance(item, dict):
+        raise MeshError(f"{key}[{index}] is not a JSON object", g.path)
+    return item
+
+
+class _Gltf:
+    """A parsed glTF document and its buffers, with typed accessors."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        data = read_regular(path, FILE_BYTES.value, MeshError, "glTF file", FILE_BYTES.setting)
+        if data[:4] == MAGIC:
+            self.doc, binary = self._parse_glb(data)
+        else:
+            check_json_depth(data, "the glTF JSON", path, MeshError)
+            try:
+                self.doc = json.loads(data.decode("utf-8"))
+            except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+                raise MeshError(f"not a glTF file ({exc})", path) from None
+            binary = None
+        asset = self.doc.get("asset") if isinstance(self.doc, dict) else None
+        if not isinstance(asset, dict) or not str(asset.get("version", "")).startswith("2"):
+            raise MeshError("not a glTF 2.0 file (asset.version is not 2.x)", path)
+        self.buffers = [self._buffer(b, binary) for b in _list(self, self.doc, "buffers")]
+
+    def _parse_glb(self, data: bytes) -> tuple[dict, bytes | None]:
+        if len(data) < 20:
+            raise MeshError("the GLB file is truncated", self.path)
+        _, version, length = struct.unpack_from("<4sII", data)
+        if version != 2:
+            raise MeshError(f"the GLB header is damaged or not version 2 ({version})", self.path)
+        if length > len(data):
+            raise MeshError(f"the GLB file is truncated ({len(data)} of {length} bytes)",
+                            self.path)
+        doc, binary, offset = None, None, 12
+        while offset + 8 <= length:
+            size, kind = struct.unpack_from("<II", data, offset)
+            chunk = data[offset + 8: offset + 8 + size]
+            if len(chunk) != size:
+                raise MeshError("a GLB chunk is truncated", self.path)
+            if kind == JSON_CHUNK and doc is None:
+                check_json_depth(chunk, "the GLB's JSON", self.path, MeshError)
+                try:
+                    doc = json.loads(chunk.decode("utf-8"))
+                except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+                    raise MeshError(f"the GLB's JSON is damaged ({exc})", self.path) from None
+            elif kind == BIN_CHUNK and binary is None:
+                binary = chunk
+            offset += 8 + size
+        if doc is None:
+            raise MeshError("the GLB file has no JSON chunk", self.path)
+        return doc, binary
+
+    def _buffer(self, spec: dict, binary: bytes | None) -> bytes:
+        data = self._buffer_data(spec, binary)
+        length = spec.get("byteLength", len(data)) if isinstance(spec, dict) else 0
+        if not _whole(length) or length > len(data):
+            raise MeshError(f"a buffer declares {length!r} bytes but holds {len(data)}",
+                            self.path)
+        return data
+
+    def _buffer_data(self, spec: dict, binary: bytes | None) -> bytes:
+        if not isinstance(spec, dict):
+            raise MeshError("a buffer is not a JSON object", self.path)
+        uri = spec.get("uri")
+        if uri is None:
+            if binary is None:
+                raise MeshError("a buffer has no data", self.path)
+            return binary
+        if not isinstance(uri, str):
+            raise MeshError(f"a buffer's uri is not text: {uri!r}", self.path)
+        if uri.startswith("data:"):
+            try:
+                return base64.b64decode(uri.split(",", 1)[1])
+            except (IndexError, ValueError) as exc:
+                raise MeshError(f"a buffer's data URI is damaged ({exc})", self.path) from None
+        target = (self.path.parent / uri).resolve()
+        if self.path.parent.resolve() not in target.parents:
+            raise MeshError(f"a buffer refers outside the file's folder: '{uri}'", self.path)
+        return read_regular(target, FILE_BYTES.value, MeshError, f"buffer '{uri}' of the glTF",
+                            FILE_BYTES.setting)
+
+    def _view(self, index: int) -> tuple[memoryview, int, int | None]:
+        view = _item(self, "bufferViews", index)
+        buffer = _item(self, "buffers", view.get("buffer"), self.buffers)
+        start, length = view.get("byteOffset", 0), view.get("byteLength")
+        stride = view.get("byteStride")
+        if not (_whole(start) and _whole(length)) or (
+                stride is not None and not (_whole(stride) and 4 <= stride <= 252)):
+            raise MeshError(f"buffer view {index} has an invalid byteOffset, byteLength or "
+                            "byteStride", self.path)
+        end = start + length
+        if end > len(buffer):
+            raise MeshError(f"buffer view {index} reaches past its buffer's end", self.path)
+        return memoryview(buffer)[:end], start, stride  # no copy of the buffer
+
+    def accessor(self, index: int) -> Array:
+        try:
+            acc = _item(self, "accessors", index)
+            if "sparse" in acc:
+                raise MeshError("sparse accessors are not supported; re-export without them",
+                                self.path)
+            if acc.get("componentType") not in COMPONENTS or acc.get("type") not in WIDTH:
+                raise MeshError(f"accessor {index} has an unknown component type "
+                                f"{acc.get('componentType')!r} or type {acc.get('type')!r}",
+                                self.path)
+            dtype = np.dtype(COMPONENTS[acc["componentType"]])
+            width, count = WIDTH[acc["type"]], acc.get("count")
+            offset = acc.get("byteOffset", 0)
+            if not (_whole(count) and count >= 1 and _whole(offset)):
+                raise MeshError(f"accessor {index} has an invalid count or byteOffset",
+                                self.path)
+            MESH_VERTICES.check(count // 3 if acc["type"] == "SCALAR" else count,
+                                f"accessor {index}", self.path, MeshError)
+            if "bufferView" not in acc:
+                raise MeshError(f"accessor {index} has no bufferView (no data)", self.path)
+            buffer, start, stride = self._view(acc["bufferView"])
+            start += offset
+            item = dtype.itemsize * width
+            stride = stride or item
+            if stride < item or start % dtype.itemsize or stride % dtype.itemsize:
+                raise MeshError(f"accessor {index}'s elements overlap or are misaligned",
+                                self.path)
+            if start + stride * (count - 1) + item > len(buffer):
+                raise MeshError(f"accessor {index} reaches past its buffer view's end",
+                                self.path)
+            raw = np.ndarray((count, width), dtype, buffer, start, (stride, dtype.itemsize))
+        except (KeyError, IndexError, TypeError, ValueError) as exc:
+            raise MeshError(f"accessor {index} is malformed ({exc})", self.path) from None
+        values = raw.astype(np.float64)
+        if acc.get("normalized") and dtype.kind in "iu":
+            values /= float(np.iinfo(dtype).max)
+        if not np.isfinite(values).all():
+            raise MeshError(f"accessor {index} holds non-finite numbers (NaN or infinity)",
+                            self.path)
+        return values
+
+    def typed(self, index: int, kinds: tuple[str, ...], what: str,
+              integer: bool = False) -> Array:
+        """An accessor that must have one of ``kinds`` (and integer components): a position
+        stored as a SCALAR, or indices as floats, is refused naming ``what``."""
+        acc = _item(self, "accessors", index)
+        if acc.get("type") not in kinds or (integer and acc.get("componentType") not in (
+                5121, 5123, 5125)):
+            raise MeshError(f"{what} (accessor {index}) is {acc.get('type')!r} of component "
+                            f"type {acc.get('componentType')!r}, expected "
+                            f"{' or '.join(kinds)}{' of unsigned integers' if integer else ''}",
+                            self.path)
+        return self.accessor(index)
+
+    def image(self, index: int) -> Array:
+        try:
+            spec = self.doc["images"][index]
+            if "bufferView" in spec:
+                buffer, start, _ = self._view(spec["bufferView"])
+                length = self.doc["bufferViews"][spec["bufferView"]]["byteLength"]
+                data = bytes(buffer[start:start + length])
+            else:
+                data = self._buffer({"uri": spec["uri"]}, None)
+        except (KeyError, IndexError, TypeError) as exc:
+            raise MeshError(f"image {index} is malformed ({exc})", self.path) from None
+        return decode_image(data, f"{self.path} (image {index})")
+
+    def texture_image(self, info: dict | None) -> Array | None:
+        if not info:
+            return None
+        try:
+            source = self.doc["textures"][info["index"]]["source"]
+        except (KeyError, IndexError, TypeError):
+            raise MeshError("a material refers to a texture that does not exist",
+                            self.path) from None
+        return self.image(source)
+
+
+def _rgb(image: Array | None, fallback: Array) -> Array:
+    if image is None:
+        return fallback
+    if image.ndim == 2:
+        image = np.repeat(image[:, :, None], 3, axis=2)
+    return np.ascontiguousarray(image[:, :, :3])
+
+
+def _first_occurrence(weld: Array, n_welded: int) -> Array:
+    first = np.empty(n_welded, np.int64)
+    first[weld[::-1]] = np.arange(len(weld))[::-1]
+    return first
+
+
+def load_gltf(path: str | Path) -> Project:
+    """A project from a glTF 2.0 file (.glb or .gltf)."""
+    path = Path(path)
+    try:
+        return _load_gltf(path)
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
+            RecursionError, struct.error) as exc:  # a structure no check above foresaw
+        raise MeshError(f"the glTF file is malformed ({type(exc).__name__}: {exc})",
+                        path) from None
+
+
+def _load_gltf(path: Path) -> Project:
+    g = _Gltf(path)
+    mesh_spec, prim = _triangle_primitive(g)
+    attrs = prim["attributes"]
+    positions = g.typed(attrs["POSITION"], ("VEC3",), "POSITION")
+    uvs = g.typed(attrs["TEXCOORD_0"], ("VEC2",), "TEXCOORD_0")
+    if len(uvs) != len(positions):
+        raise MeshError(f"TEXCOORD_0 has {len(uvs)} values, POSITION has {len(positions)}", path)
+    uvs = uvs[:, :2] * [1.0, -1.0] + [0.0, 1.0]  # glTF v points down
+    if "indices" in prim:
+        indices = g.typed(prim["indices"], ("SCALAR",), "the indices", integer=True)
+        if len(indices) % 3 or indices.max() >= len(positions):
+            raise MeshError(f"the indices are not triangles over the {len(positions)} vertices "
+                            "(a count not divisible by 3, or a vertex that does not exist)", path)
+        triangles = indices.astype(np.int64).reshape(-1, 3)
+    else:
+        if len(positions) % 3:
+            raise MeshError(f"{len(positions)} vertices without indices are not triangles", path)
+        triangles = np.arange(len(positions)).reshape(-1, 3)
+    if "_WELD" in attrs:  # written by the studio: keep its welded numbering exactly
+        mesh = _mesh_with_weld(g, positions, triangles, uvs, g.accessor(attrs["_WELD"])[:, 0])
+    else:
+        mesh = mesh_from_render_vertices(path, positions, triangles, uvs)
+    first = _first_occurrence(mesh.weld, mesh.n_welded)
+    names = (mesh_spec.get("extras", {}).get("targetNames")
+             or prim.get("extras", {}).get("targetNames") or [])
+    targets = prim.get("targets", [])
+    POSES.check(len(targets), "the morph target count", path, MeshError)
+    poses = []
+    for i, target in enumerate(targets):
+        if "POSITION" not in target:
+            continue
+        name = str(names[i]) if i < len(names) else f"target_{i}"
+        offsets = g.typed(target["POSITION"], ("VEC3",), f"morph target '{name}'")
+        if len(offsets) != len(positions):  # numpy would broadcast a single offset silently
+            raise MeshError(f"morph target '{name}' moves {len(offsets)} vertices, the mesh has "
+                            f"{len(positions)}", path)
+        poses.append(KeyPose(name, (positions + offsets)[first]))
+    material = _material(g, prim)
+    pbr = material.get("pbrMetallicRoughness", {})
+    extras = g.doc.get("extras", {}).get(EXTRAS_KEY, {})
+    textures = FaceTextures(
+        diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), plain_diffuse()),
+        normal_neutral=_rgb(g.texture_image(material.get("normalTexture")), flat_normal_map()),
+        normal_wrinkled=_rgb(g.texture_image(material.get("extras", {}).get(
+            "wrinkleNormalTexture")), flat_normal_map()))
+    project = Project(str(extras.get("name", path.stem)), mesh, poses, textures)
+    try:
+        _read_studio_extras(g, project, extras, attrs, first)
+    except (KeyError, IndexError, TypeError, ValueError) as exc:
+        raise MeshError(f"the studio data in extras.{EXTRAS_KEY} is malformed ({exc})",
+                        path) from None
+    return project
+
+
+def _mesh_with_weld(g: _Gltf, positions: Array, triangles: Array, uvs: Array,
+                    weld_values: Array) -> FaceMesh:
+    weld = weld_values.astype(np.int64)
+    if (weld != weld_values).any() or weld.min() < 0 or weld.max() >= len(weld):
+        raise MeshError("the _WELD attribute does not hold vertex numbers", g.path)
+    n = int(weld.max()) + 1
+    first = _first_occurrence(weld, n)
+    if not np.array_equal(positions[first][weld], positions):
+        raise MeshError("vertices welded by _WELD are not at one position", g.path)
+    return FaceMesh(positions[first], triangles, uvs, weld, str(g.path))
+
+
+def _triangle_primitive(g: _Gltf) -> tuple[dict, dict]:
+    for mesh in g.doc.get("meshes", []):
+        for prim in mesh.get("primitives", []):
+            attrs = prim.get("attributes", {})
+            if prim.get("mode", 4) == 4 and "POSITION" in attrs and "TEXCOORD_0" in attrs:
+                return mesh, prim
+    if any("POSITION" in p.get("attributes", {}) for m in g.doc.get("meshes", [])
+           for p in m.get("primitives", [])):
+        raise MeshError("the mesh has no texture coordinates (TEXCOORD_0)", g.path)
+    raise MeshError("the file holds no triangle mesh", g.path)
+
+
+def _material(g: _Gltf, prim: dict) -> dict:
+    try:
+        return g.doc["materials"][prim["material"]] if "material" in prim else {}
+    except (KeyError, IndexError, TypeError):
+        raise MeshError("the mesh refers to a material that does not exist", g.path) from None
+
+
+def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
+                        first: Array) -> None:
+    areas = []
+    for spec in extras.get("influence", {}).get("areas", []):
+        mask = g.image(spec["image"]).astype(np.float32) / 65535.0
+        areas.append(InfluenceArea(spec["name"], mask, tuple(spec.get("colour", (255, 128, 0))),
+                                   float(spec.get("activation", 0.0)),
+                                   bool(spec.get("visible", True)),
+                                   str(spec.get("wrinkle_map", ""))))
+    project.influence = InfluenceSetup(areas, extras.get("influence", {}).get("links", {}))
+    if extras.get("wrinkle_maps"):
+        tex = project.textures
+        maps = {str(m["name"]): _rgb(g.image(m["image"]), tex.normal_wrinkled)
+                for m in extras["wrinkle_maps"]}
+        project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
+    if "_NOT_FACE" in attrs:
+        project.not_face = g.accessor(attrs["_NOT_FACE"])[first].ravel() > 0.5
+    if "uv_tiles" in extras and "_UDIM_TILE" in attrs:
+        tiles = np.rint(g.accessor(attrs["_UDIM_TILE"]).ravel()).astype(np.int16)
+        project.uv_tiles = UvTiles(TileLayout.from_dict(extras["uv_tiles"]), tiles)
+    wdv = extras.get("wdv", {})
+    wdv_areas = []
+    for n, spec in enumerate(wdv.get("areas", [])):
+        dirs = g.accessor(attrs[f"_WRINKLE_DIR_{n}"])[first]
+        lengths = g.accessor(attrs[f"_WRINKLE_LEN_{n}"])[first, 0]
+        cones = (g.accessor(attrs[f"_WRINKLE_CONE_{n}"])[first, 0]
+                 if f"_WRINKLE_CONE_{n}" in attrs else None)
+        wdv_areas.append(WdvArea(spec["name"], spec["pose"], dirs, lengths,
+                                 tuple(spec.get("colour", (0, 170, 255))),
+                                 float(spec.get("cone_angle_deg", 20.0)),
+                                 bool(spec.get("enabled", True)),
+                                 str(spec.get("wrinkle_map", "")), cones))
+    project.wdv = WdvSetup(wdv_areas, float(wdv.get("expression_factor", 1.0)),
+                           bool(wdv.get("scale_free", True)))
+    if "timeline" in extras:
+        project.timeline = Timeline.from_dict(extras["timeline"])
+
+
+# --- writing ---------------------------------------------------------------------------------
+class _Builder:
+    """Accumulates buffer views and accessors for one GLB binary chunk."""
+
+    def __init__(self) -> None:
+        self.blob = bytearray()
+        self.views: list[dict] = []
+        self.accessors: list[dict] = []
+
+    def view(self, data: bytes, target: int | None = None) -> int:
+        self.blob += b"\0" * (-len(self.blob) % 4)
+        view = {"buffer": 0, "byteOffset": len(self.blob), "byteLength": len(data)}
+        if target:
+            view["target"] = target
+        self.blob += data
+        self.views.append(view)
+        return len(self.views) - 1
+
+    def accessor(self, array: Array, kind: str, bounds: bool = False,
+                 indices: bool = False) -> int:
+        array = np.ascontiguousarray(array, np.uint32 if indices else np.float32)
+        acc = {"bufferView": self.view(array.tobytes(), 34963 if indices else 34962),
+               "componentType": 5125 if indices else 5126, "count": len(array), "type": kind}
+        if bounds:
+            flat = array.reshape(len(array), -1)
+            acc["min"] = flat.min(axis=0).tolist()
+            acc["max"] = flat.max(axis=0).tolist()
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+
+def save_gltf(project: Project, path: str | Path) -> None:
+    """Write the project as a binary glTF (.glb)."""
+    path = Path(path)
+    mesh, weld = project.mesh, project.mesh.weld
+    b = _Builder()
+    rest = mesh.rest[weld]
+    attributes = {
+        "POSITION": b.accessor(rest, "VEC3", bounds=True),
+        "TEXCOORD_0": b.accessor(mesh.uvs * [1.0, -1.0] + [0.0, 1.0], "VEC2"),
+        "_WELD": b.accessor(weld, "SCALAR"),  # exact in float32 below 2**24 vertices
+    }
+    for n, area in enumerate(project.wdv.areas):
+        attributes[f"_WRINKLE_DIR_{n}"] = b.accessor(area.directions[weld], "VEC3")
+        attributes[f"_WRINKLE_LEN_{n}"] = b.accessor(area.lengths[weld], "SCALAR")
+        if area.cone_angles_deg is not None:  # painted per-vertex cone angles, degrees
+            attributes[f"_WRINKLE_CONE_{n}"] = b.accessor(area.cone_angles_deg[weld], "SCALAR")
+    if project.not_face is not None:
+        attributes["_NOT_FACE"] = b.accessor(project.not_face[weld], "SCALAR")
+    if project.uv_tiles is not None:  # the atlas cell's UDIM tile: the original UVs come back
+        attributes["_UDIM_TILE"] = b.accessor(project.uv_tiles.vertex_tile, "SCALAR")
+    targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True)}
+               for pose in project.poses]
+    images: list[dict] = []
+
+    def image(array: Array, name: str) -> int:
+        images.append({"bufferView": b.view(encode_png(array)), "mimeType": "image/png",
+                       "name": name})
+        return len(images) - 1
+
+    tex = project.textures
+    textures = [{"source": image(tex.diffuse, "diffuse")},
+                {"source": image(tex.normal_neutral, "normal_neutral")},
+                {"source": image(tex.normal_wrinkled, "normal_wrinkled")}]
+    wrinkle_maps = [{"name": name, "image": 2 if i == 0 else image(im, f"wrinkled: {name}")}
+                    for i, (name, im) in enumerate(tex.wrinkle_maps.items())]
+    influence = {"links": project.influence.links, "areas": [
+        {"name": a.name, "colour": list(a.colour), "activation": a.activation,
+         "visible": a.visible, "wrinkle_map": a.wrinkle_map,
+         "image": image(np.round(a.mask * 65535.0).astype(np.uint16), f"mask: {a.name}")}
+        for a in project.influence.areas]}
+    primitive = {"attributes": attributes, "indices": b.accessor(mesh.triangles.ravel(),
+                                                                  "SCALAR", indices=True),
+                 "material": 0, "mode": 4}
+    if targets:
+        primitive["targets"] = targets
+    doc = {
+        "asset": {"version": "2.0", "generator": "Wrinkle Studio"},
+        "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": project.name}],
+        "meshes": [{"name": project.name, "primitives": [primitive],
+                    "weights": [0.0] * len(targets),
+                    "extras": {"targetNames": [p.name for p in project.poses]}}],
+        "materials": [{"name": "skin", "pbrMetallicRoughness": {
+            "baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.7},
+            "normalTexture": {"index": 1}, "extras": {"wrinkleNormalTexture": {"index": 2}}}],
+        "textures": textures, "images": images,
+        "accessors": b.accessors, "bufferViews": b.views,
+        "buffers": [{"byteLength": len(b.blob)}],
+        "extras": {EXTRAS_KEY: {
+            "name": project.name, "influence": influence, "timeline": project.timeline.to_dict(),
+            "wrinkle_maps": wrinkle_maps,
+            **({"uv_tiles": project.uv_tiles.layout.to_dict()} if project.uv_tiles else {}),
+            "wdv": {"expression_factor": project.wdv.expression_factor,
+                    "scale_free": project.wdv.scale_free,
+                    "areas": [{"name": a.name, "pose": a.pose, "colour": list(a.colour),
+                               "cone_angle_deg": a.cone_angle_deg, "enabled": a.enabled,
+                               "wrinkle_map": a.wrinkle_map}
+                              for a in project.wdv.areas]}}},
+    }
+    text = json.dumps(doc, separators=(",", ":")).encode("utf-8")
+    text += b" " * (-len(text) % 4)
+    blob = bytes(b.blob) + b"\0" * (-len(b.blob) % 4)
+    total = 12 + 8 + len(text) + 8 + len(blob)
+    data = (struct.pack("<4sII", MAGIC, 2, total) + struct.pack("<II", len(text), JSON_CHUNK)
+            + text + struct.pack("<II", len(blob), BIN_CHUNK) + blob)
+    from studio.core.files.atomic_write import write_atomic
+
+    write_atomic(path, data, MeshError, what="file")

@@ -1,0 +1,75 @@
+"""The project: everything the user authored and imported, free of Qt and GL."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from studio.core.animation.poses import NEUTRAL, KeyPose, check_pose_topology
+from studio.core.animation.timeline import Timeline
+from studio.core.files.errors import StudioError
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.uv_tiles import UvTiles
+from studio.core.wrinkles.influence import InfluenceSetup
+from studio.core.wrinkles.textures import FaceTextures
+from studio.core.wrinkles.wdv import WdvSetup
+
+
+@dataclass(eq=False)
+class Project:
+    name: str
+    mesh: FaceMesh
+    poses: list[KeyPose]  # key poses other than the neutral one (the mesh's rest positions)
+    textures: FaceTextures
+    influence: InfluenceSetup = field(default_factory=InfluenceSetup)
+    wdv: WdvSetup = field(default_factory=WdvSetup)
+    timeline: Timeline = field(default_factory=Timeline)
+    view: dict = field(default_factory=dict)
+    extra: dict = field(default_factory=dict)  # unknown project.json keys, kept for newer tools
+    # (W,) bool per welded vertex: not skin (eyes, teeth, ...), so never wrinkled; None = all skin
+    not_face: np.ndarray | None = None
+    # UDIM tiles packed into the 0–1 atlas the mesh's UVs are in; None = one tile as imported
+    uv_tiles: UvTiles | None = None
+
+    def __post_init__(self) -> None:
+        for pose in self.poses:
+            check_pose_topology(self.mesh.rest, pose, self.mesh.source or None)
+        if self.not_face is not None:
+            self.not_face = np.asarray(self.not_face, dtype=bool)
+            if self.not_face.shape != (self.mesh.n_welded,):
+                raise StudioError(f"the not-face flags cover {self.not_face.shape} vertices, "
+                                  f"the mesh has {self.mesh.n_welded}")
+        if self.uv_tiles is not None and len(self.uv_tiles.vertex_tile) != self.mesh.n_vertices:
+            raise StudioError(f"the UV tiles cover {len(self.uv_tiles.vertex_tile)} vertices, "
+                              f"the mesh has {self.mesh.n_vertices}")
+
+    def skin_weights(self) -> np.ndarray:
+        """(W,) float32: 1 where wrinkles may show, 0 on vertices marked not-face."""
+        if self.not_face is None:
+            return np.ones(self.mesh.n_welded, np.float32)
+        return (~self.not_face).astype(np.float32)
+
+    def skin_tiles(self) -> list[int]:
+        """The UDIM tiles that hold skin, in order; none for a face on a single tile."""
+        if self.uv_tiles is None:
+            return []
+        skin = self.skin_weights()[self.mesh.weld] > 0
+        return [self.uv_tiles.layout.tiles[i] for i in np.unique(self.uv_tiles.vertex_tile[skin])]
+
+    @property
+    def pose_names(self) -> list[str]:
+        return [NEUTRAL, *(p.name for p in self.poses)]
+
+    def pose(self, name: str) -> KeyPose:
+        if name == NEUTRAL:
+            return KeyPose(NEUTRAL, self.mesh.rest)
+        for pose in self.poses:
+            if pose.name == name:
+                return pose
+        raise StudioError(f"unknown pose '{name}' (poses: {', '.join(self.pose_names)})")
+
+    def single_pose_weights(self, name: str, weight: float = 1.0) -> dict[str, float]:
+        """Weights that show one key pose (at ``weight``) and nothing else."""
+        self.pose(name)
+        return {} if name == NEUTRAL else {name: weight}

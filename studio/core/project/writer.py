@@ -1,0 +1,191 @@
+"""Saving a project: the archive written all or nothing, the previous version kept as a backup."""
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import shutil
+import time
+import zipfile
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+try:  # advisory locks: POSIX only
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None  # type: ignore[assignment]
+
+import numpy as np
+
+from studio.core.files.atomic_write import atomic_output
+from studio.core.files.errors import ProjectError
+from studio.core.files.png import encode_png
+from studio.core.project.mask_store import mask_members
+from studio.core.project.model import Project
+from studio.core.project.schema import (
+    FORMAT,
+    FORMAT_VERSION,
+    KNOWN_KEYS,
+    MESH_ARRAYS,
+    NOT_FACE_MEMBER,
+    TEXTURES,
+    VERTEX_TILE_MEMBER,
+    check_project,
+    cones_member,
+    mask_member,
+    pose_member,
+    wrinkled_member,
+)
+
+Array = np.ndarray
+
+def save_project(project: Project, path: str | Path, backup: bool = True) -> None:
+    """Write ``project`` to ``path`` atomically: the old file survives any failure.
+
+    With ``backup`` the file being replaced is kept as ``NAME.wrinkle.bak`` (a hard link where
+    the disk allows, so keeping it costs neither time nor space), one step of "undo the save".
+    Temporary files left by an earlier save that was killed are removed on the way.
+
+    Raises ProjectError naming ``path`` when the project cannot be saved as it is (so that
+    nothing is written that load_project would refuse) or when the disk refuses the write.
+    """
+    path = Path(path)
+    check_project(project, path)
+    document = _document(project, path)
+    with atomic_output(path, ProjectError, what="project", verb="save",
+                       before_replace=keep_backup if backup else None) as handle:
+        _write_archive(handle, project, document)
+
+
+def backup_path(path: str | Path) -> Path:
+    """Where save_project keeps the previous version of ``path``."""
+    path = Path(path)
+    return path.with_name(path.name + ".bak")
+
+
+def keep_backup(target: Path) -> None:
+    """Keep the file about to be replaced as ``NAME.bak``, replacing an older backup atomically.
+
+    A backup that cannot be made (no room, no hard links and no space to copy) does not stop the
+    save: the new version matters more than the previous one.
+    """
+    if not target.is_file():
+        return
+    bak = backup_path(target)
+    staging = bak.with_name(f".{bak.name}.{os.getpid()}.staging")
+    with contextlib.suppress(OSError):
+        os.unlink(staging)
+    try:
+        try:
+            os.link(target, staging)
+        except OSError:
+            shutil.copy2(target, staging)
+        os.replace(staging, bak)
+    except OSError:
+        with contextlib.suppress(OSError):
+            os.unlink(staging)
+
+
+def _write_archive(handle: Any, project: Project, document: bytes) -> None:
+    stamp = time.localtime()[:6]
+    with zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as archive:
+        for name, encode, value in _members(project, document):
+            info = zipfile.ZipInfo(name, date_time=stamp)
+            info.compress_type = zipfile.ZIP_STORED if name.endswith(".png") else \
+                zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            archive.writestr(info, encode(value))
+
+
+def _members(project: Project,
+             document: bytes) -> Iterator[tuple[str, Callable[[Any], bytes], Any]]:
+    """(name, encoder, value) for every member, so bytes exist one member at a time."""
+    yield "project.json", bytes, document
+    for key in MESH_ARRAYS:
+        yield f"mesh/{key}.npy", _npy, getattr(project.mesh, key)
+    for i, pose in enumerate(project.poses):
+        yield pose_member(i), _npy, pose.positions
+    if project.not_face is not None:
+        yield NOT_FACE_MEMBER, _npy, project.not_face
+    if project.uv_tiles is not None:
+        yield VERTEX_TILE_MEMBER, _npy, project.uv_tiles.vertex_tile
+    for key in TEXTURES:
+        yield f"textures/{key}.png", encode_png, getattr(project.textures, key)
+    for i, image in enumerate(list(project.textures.wrinkle_maps.values())[1:], start=1):
+        yield wrinkled_member(i), encode_png, image
+    written = set()  # masks shared by several areas are stored once
+    for area, member in zip(project.influence.areas,
+                            mask_members(project.influence.areas, mask_member), strict=True):
+        if member not in written:
+            written.add(member)
+            yield member, _mask_png, area.mask
+    for i, wdv in enumerate(project.wdv.areas):
+        yield f"wdv/{i:02d}_directions.npy", _npy, wdv.directions
+        yield f"wdv/{i:02d}_lengths.npy", _npy, wdv.lengths
+        if wdv.cone_angles_deg is not None:
+            yield cones_member(i), _npy, wdv.cone_angles_deg
+
+
+def _document(project: Project, path: Path) -> bytes:
+    """project.json as UTF-8 bytes (strict JSON: no NaN or Infinity)."""
+    doc: dict[str, Any] = {}
+    for key, value in project.extra.items():
+        if key not in KNOWN_KEYS:
+            doc[key] = value
+    influence = project.influence
+    doc.update({
+        "format": FORMAT,
+        "version": FORMAT_VERSION,
+        "name": project.name,
+        "mesh": {"source": project.mesh.source, "welded_vertices": project.mesh.n_welded,
+                 "render_vertices": project.mesh.n_vertices,
+                 "triangles": project.mesh.n_triangles},
+        "poses": [pose.name for pose in project.poses],
+        "wrinkle_maps": project.textures.wrinkle_map_names,
+        **({"not_face": NOT_FACE_MEMBER} if project.not_face is not None else {}),
+        **({"uv_tiles": {**project.uv_tiles.layout.to_dict(), "vertex_tile": VERTEX_TILE_MEMBER}}
+           if project.uv_tiles is not None else {}),
+        "influence": {
+            "areas": [{"name": a.name, "colour": [int(c) for c in a.colour],
+                       "activation": float(a.activation), "visible": bool(a.visible),
+                       "wrinkle_map": a.wrinkle_map, "mask": member}
+                      for a, member in zip(influence.areas, mask_members(
+                          influence.areas, mask_member), strict=True)],
+            "links": {pose: {area: float(gain) for area, gain in gains.items()}
+                      for pose, gains in influence.links.items()},
+        },
+        "wdv": {
+            "expression_factor": float(project.wdv.expression_factor),
+            "scale_free": bool(project.wdv.scale_free),
+            "areas": [{"name": a.name, "pose": a.pose, "colour": [int(c) for c in a.colour],
+                       "cone_angle_deg": float(a.cone_angle_deg), "enabled": bool(a.enabled),
+                       "wrinkle_map": a.wrinkle_map,
+                       **({"cones": cones_member(i)} if a.cone_angles_deg is not None else {}),
+                       "directions": f"wdv/{i:02d}_directions.npy",
+                       "lengths": f"wdv/{i:02d}_lengths.npy"}
+                      for i, a in enumerate(project.wdv.areas)],
+        },
+        "timeline": project.timeline.to_dict(),
+        "view": project.view,
+    })
+    try:
+        text = json.dumps(doc, indent=1, ensure_ascii=False, allow_nan=False)
+    except (TypeError, ValueError, RecursionError) as exc:
+        raise ProjectError(f"cannot save the project: its view or timeline settings cannot be "
+                           f"written as JSON ({exc})", path) from None
+    return text.encode("utf-8")
+
+
+
+def _npy(array: Array) -> bytes:
+    buffer = io.BytesIO()
+    np.save(buffer, np.ascontiguousarray(array), allow_pickle=False)
+    return buffer.getvalue()
+
+
+def _mask_png(mask: Array) -> bytes:
+    """Float mask in [0, 1] -> 16-bit greyscale PNG, the nearest of 65536 levels."""
+    return encode_png(np.rint(np.clip(mask, 0.0, 1.0) * 65535.0).astype(np.uint16))
+

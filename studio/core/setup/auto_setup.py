@@ -1,0 +1,372 @@
+"""Starting points derived from the key poses, so an imported face shows wrinkles at once.
+
+``--auto`` and Tools ▸ Auto Setup: for each key pose, a technique-2 area with wrinkle direction
+vectors on the vertices the pose moves (directions from its motion) and a technique-1 soft mask
+from its skin compression, linked to the pose. And what the automatic (strain) mode shows
+at some pose weights, turned into an editable mask or WDV area.
+
+Both go through the same two builders: :func:`mask_from_weights` (per-vertex weights → a soft UV
+mask) and :func:`wdv_area_from_selection` (selected vertices + a target shape → vectors), so an
+auto mask, an auto WDV area and a converted strain result are made the same way. Vertices marked
+not-face never get any. Nothing here changes the project except :func:`apply_setup` (and
+:func:`auto_setup`, which is suggest + apply): the GUI pushes the suggestion as one undo step.
+"""
+
+from __future__ import annotations
+
+import colorsys
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from studio.core.animation.poses import NEUTRAL, PoseBlender
+from studio.core.files.errors import StudioError
+from studio.core.files.naming import unique_name
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.selection import suggest
+from studio.core.project.model import Project
+from studio.core.setup.wrinkle_synth import UvRaster, fill_placeholder
+from studio.core.wrinkles import mask_ops
+from studio.core.wrinkles.influence import InfluenceArea
+from studio.core.wrinkles.skin_strain import PoseStrain, SkinStrain, compression_weights
+from studio.core.wrinkles.strain import DEFAULT_FULL_AT, StrainField
+from studio.core.wrinkles.wdv import WdvArea, wrinkle_directions
+
+Array = np.ndarray
+
+DEFAULT_MASK_SIZE = 1024  # a fresh project's mask resolution (the areas panel's default too)
+WORK_SIZE = 1024  # masks are drawn at most this size, then resampled (they are smooth)
+SETUP_WORK_SIZE = 512  # … and for the soft masks of a whole auto setup, one per pose
+SUGGEST_FRACTION = 0.2  # the WDV panel's Suggest default: moved by > 20 % of the largest motion
+MASK_THRESHOLD = 0.1  # compression below 10 % of the pose's strong compression makes no mask
+MASK_SOFTNESS = 4.0  # blur of an auto mask, pixels of its size (as the areas panel's Auto mask)
+STILL_MOTION = 1e-4  # skin moved by less than this fraction of the face's size: not moved
+STRAIN_THRESHOLD = 0.25  # a strain → WDV area takes vertices with a wrinkle weight above this
+MAX_LINK_GAIN = 2.0  # the areas panel's largest link gain
+
+
+@dataclass
+class AutoSetupReport:
+    """What an automatic setup adds (new areas and links) and which poses gave nothing."""
+
+    influence_areas: list[InfluenceArea] = field(default_factory=list)
+    wdv_areas: list[WdvArea] = field(default_factory=list)
+    links: dict[str, dict[str, float]] = field(default_factory=dict)  # pose -> {area: gain}
+    still_poses: list[str] = field(default_factory=list)  # move no skin: no WDV area
+    flat_poses: list[str] = field(default_factory=list)  # compress no skin: no mask
+    strains: dict[str, PoseStrain] = field(default_factory=dict)  # what each pose does
+    regions: dict[str, str] = field(default_factory=dict)  # where it compresses, by name
+
+    @property
+    def empty(self) -> bool:
+        return not self.influence_areas and not self.wdv_areas
+
+    def summary(self) -> str:
+        """One or two sentences for a status bar, a message box or the command line."""
+        if self.empty and not self.still_poses and not self.flat_poses:
+            return "No key poses to start from."
+        parts = [f"added {len(self.wdv_areas)} wrinkle-vector area(s) and "
+                 f"{len(self.influence_areas)} mask(s)"]
+        if self.still_poses:
+            parts.append(f"no vectors for {', '.join(self.still_poses)} (moves no skin)")
+        if self.flat_poses:
+            parts.append(f"no mask for {', '.join(self.flat_poses)} (compresses no skin)")
+        text = "; ".join(parts)
+        return text[0].upper() + text[1:] + "."
+
+    def pose_lines(self) -> list[str]:
+        """A line per pose: how much skin it compresses, where and how strongly, or why it
+        got no mask — what a user checks first on a face made elsewhere."""
+        lines = []
+        for pose, strain in self.strains.items():
+            if strain.compresses:
+                where = f" ({self.regions[pose]})" if pose in self.regions else ""
+                lines.append(f"{pose}: compresses {100 * strain.compressed_share:.1f} % of the "
+                             f"skin{where}, peak {100 * strain.peak_compression:.0f} %")
+            else:
+                lines.append(f"{pose}: no mask, it {strain.describe()}")
+        return lines
+
+
+def area_colour(index: int) -> tuple[int, int, int]:
+    """Distinct colours for a run of new areas: hues a golden angle apart."""
+    r, g, b = colorsys.hsv_to_rgb((0.08 + index * 0.381966) % 1.0, 0.7, 0.95)
+    return round(r * 255), round(g * 255), round(b * 255)
+
+
+# --- the shared builders -------------------------------------------------------------------------
+
+def mask_from_weights(mesh: FaceMesh, weights: Array, shape: tuple[int, int],
+                      softness: float = 0.0, raster: UvRaster | None = None) -> Array:
+    """A (h, w) UV mask from per-welded-vertex weights in [0, 1], interpolated over the
+    triangles.
+
+    Drawn with ``raster`` (made at ``WORK_SIZE`` at most when not given: smooth masks lose
+    nothing), blurred by ``softness`` pixels of the target size and resampled to ``shape``;
+    values below 1e-3 drop to exactly 0, so untouched skin stays out of the area.
+    """
+    h, w = shape
+    raster = raster or UvRaster(mesh, min(max(w, h), WORK_SIZE))
+    img = raster.image(np.clip(np.asarray(weights, np.float32), 0.0, 1.0)[mesh.weld])
+    img = mask_ops.blur(img, softness * raster.size / max(w, h))
+    out = mask_ops.resample(img, (w, h))
+    out[out < 1e-3] = 0.0
+    return out
+
+
+def wdv_area_from_selection(name: str, pose: str, rest: Array, target: Array, selected: Array,
+                            **kwargs) -> WdvArea | None:
+    """A technique-2 area whose selected vertices point along their motion from ``rest`` to
+    ``target`` (the thesis's "create wrinkle directions"); None when none of them moves."""
+    result = wrinkle_directions(rest, target, np.flatnonzero(selected))
+    if not result.lengths.any():
+        return None
+    return WdvArea(name, pose, result.directions, result.lengths, **kwargs)
+
+
+# --- per-pose weights ----------------------------------------------------------------------------
+
+def skin_target(project: Project, target: Array) -> Array:
+    """The target with not-face vertices held at rest: their motion selects nothing."""
+    if project.not_face is None:
+        return np.asarray(target, np.float32)
+    return np.where(project.not_face[:, None], project.mesh.rest, target).astype(np.float32)
+
+
+def face_size(project: Project) -> float:
+    """The diagonal of the skin's bounding box: what motions are measured against, so no
+    threshold depends on the face's units."""
+    skin = project.skin_weights() > 0
+    points = project.mesh.rest[skin] if skin.any() else project.mesh.rest
+    return float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
+
+
+def setup_mask_size(project: Project, mask_size: int | None) -> tuple[int, int]:
+    """The mask shape new areas get: the project's resolution (all masks share one)."""
+    current = project.influence.resolution
+    if mask_size is None:
+        return current or (DEFAULT_MASK_SIZE, DEFAULT_MASK_SIZE)
+    if mask_size < 1:
+        raise StudioError(f"a mask size must be positive, got {mask_size}")
+    if current is not None and current != (mask_size, mask_size):
+        raise StudioError(f"the project's masks are {current[1]}×{current[0]}; new masks must "
+                          f"match, not {mask_size}×{mask_size}")
+    return mask_size, mask_size
+
+
+# --- a starting point from every key pose ------------------------------------------------
+
+def suggest_setup(project: Project, *, mask_size: int | None = None,
+                  poses: Iterable[str] | None = None, fraction: float = SUGGEST_FRACTION,
+                  threshold: float = MASK_THRESHOLD, softness: float = MASK_SOFTNESS,
+                  locate: Callable[[Array], str] | None = None,
+                  progress: Callable[[int, int], bool] | None = None) -> AutoSetupReport | None:
+    """The areas and links an automatic setup would add, without changing the project.
+
+    For each key pose (all, or ``poses``): a WDV area named after it on the vertices it moves by
+    more than ``fraction`` of its largest skin motion, and a soft mask from its compression
+    linked to it with gain 1. Poses that move or compress no skin are reported instead.
+    Each pose's strain goes into the report; ``locate`` names the region of a neutral-face
+    point, for the report to say where a pose compresses the skin. None if ``progress``
+    (called with poses done, poses in all) returned False.
+    """
+    names = [p.name for p in project.poses] if poses is None else list(poses)
+    shape = setup_mask_size(project, mask_size)
+    rest = project.mesh.rest
+    report = AutoSetupReport()
+    wdv_taken = [a.name for a in project.wdv.areas]
+    mask_taken = [a.name for a in project.influence.areas]
+    skin = project.skin_weights()
+    strain = SkinStrain(project.mesh, skin)
+    size = face_size(project)
+    raster = UvRaster(project.mesh, min(max(shape), SETUP_WORK_SIZE))
+    for done, name in enumerate(names, start=1):
+        if progress is not None and not progress(done, len(names)):
+            return None
+        if name == NEUTRAL:
+            continue
+        target = project.pose(name).positions
+        moved = skin_target(project, target)
+        motion = float(np.linalg.norm(moved - rest, axis=1).max(initial=0.0)) / size
+        colour = area_colour(len(report.wdv_areas) + len(report.flat_poses))
+        area = None
+        if motion > STILL_MOTION:
+            area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
+                                           suggest(rest, moved, fraction), colour=colour)
+        if area is None:
+            report.still_poses.append(name)
+        else:
+            wdv_taken.append(area.name)
+            report.wdv_areas.append(area)
+        pose_strain = strain.of(target)
+        summary = strain.summary(pose_strain, motion if motion > STILL_MOTION else 0.0)
+        report.strains[name] = summary
+        if locate is not None and summary.centre is not None:
+            report.regions[name] = locate(summary.centre)
+        weights = compression_weights(strain, pose_strain.compression, threshold)
+        mask = mask_from_weights(project.mesh, weights, shape, softness, raster)
+        if not mask.any():
+            report.flat_poses.append(name)
+            continue
+        mask_area = InfluenceArea(unique_name(name, mask_taken), mask, colour=colour)
+        mask_taken.append(mask_area.name)
+        report.influence_areas.append(mask_area)
+        report.links.setdefault(name, {})[mask_area.name] = 1.0
+    return report
+
+
+def merged_links(current: Mapping[str, Mapping[str, float]],
+                 added: Mapping[str, Mapping[str, float]]) -> dict[str, dict[str, float]]:
+    """The project's links with the new ones added (new areas have new names: no clash)."""
+    links = {pose: dict(gains) for pose, gains in current.items()}
+    for pose, gains in added.items():
+        links.setdefault(pose, {}).update(gains)
+    return links
+
+
+def apply_setup(project: Project, report: AutoSetupReport) -> None:
+    """Add a suggestion's areas after the existing ones, and its links."""
+    project.influence.areas.extend(report.influence_areas)
+    project.influence.links = merged_links(project.influence.links, report.links)
+    project.wdv.areas.extend(report.wdv_areas)
+
+
+def areas_of_poses(project: Project, poses: Iterable[str]) -> list[InfluenceArea | WdvArea]:
+    """The areas that follow these poses: technique-1 areas a pose links to with a positive
+    gain, technique-2 areas made from one of them."""
+    chosen = set(poses)
+    linked = {area for pose, gains in project.influence.links.items() if pose in chosen
+              for area, gain in gains.items() if gain > 0.0}
+    return [*(a for a in project.influence.areas if a.name in linked),
+            *(a for a in project.wdv.areas if a.pose in chosen)]
+
+
+def auto_setup(project: Project, *, mask_size: int | None = None, **options) -> AutoSetupReport:
+    """Give the project a starting point for both techniques from its key poses;
+    ``options`` as for :func:`suggest_setup`. Returns what was added and what was skipped."""
+    report = suggest_setup(project, mask_size=mask_size, **options)
+    apply_setup(project, report)
+    return report
+
+
+def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
+               progress: Callable[[int, int], bool] | None = None) -> list[str] | None:
+    """``wrinkle-studio new --auto``: the automatic setup and, for a face that came without a
+    wrinkled normal map (a flat placeholder), maps synthesised from its key poses — several
+    where poses' furrows cross, each pose's areas revealing its own — so that the imported face
+    shows wrinkles at once. Returns what was done, a line each; None, with the project
+    untouched, if ``progress`` (done, total: the set-up's steps then the synthesis's) returned
+    False."""
+    steps = len(project.poses)
+    report = suggest_setup(project, locate=locate, progress=progress)
+    if report is None:
+        return None
+    textures = dict(project.textures.wrinkle_maps)
+
+    def synth_progress(done: int, total: int) -> bool:
+        return progress is None or progress(steps + done, steps + total)
+
+    made = fill_placeholder(project, progress=synth_progress)
+    if made is None:
+        project.textures.wrinkle_maps = textures
+        return None
+    apply_setup(project, report)
+    lines = [f"auto setup: {report.summary()}",
+             *(f"  {line}" for line in report.pose_lines())]
+    for map_name, poses in made.items():
+        reveal_map(project, report, poses, map_name)
+    if made:
+        maps = ", ".join(f"'{m}' ({', '.join(p) or 'no furrows'})" for m, p in made.items())
+        lines.append(f"auto setup: synthesised wrinkled normal maps from the key poses (the "
+                     f"face came without one): {maps}")
+    return lines
+
+
+def reveal_map(project: Project, report: AutoSetupReport, poses: Iterable[str],
+               map_name: str) -> None:
+    """Point the areas a setup made for these poses at one wrinkled map."""
+    chosen = set(poses)
+    masks = {area for pose in chosen for area in report.links.get(pose, {})}
+    for area in report.influence_areas:
+        if area.name in masks:
+            area.wrinkle_map = map_name
+    for wdv_area in report.wdv_areas:
+        if wdv_area.pose in chosen:
+            wdv_area.wrinkle_map = map_name
+
+
+# --- the automatic (strain) mode's result, made editable -------------------------------
+
+def active_poses(project: Project, pose_weights: Mapping[str, float]) -> dict[str, float]:
+    """The key poses with a positive weight, strongest first."""
+    known = {p.name for p in project.poses}
+    active = {k: float(w) for k, w in pose_weights.items() if k in known and w > 0.0}
+    return dict(sorted(active.items(), key=lambda kv: -kv[1]))
+
+
+def posed_positions(project: Project, pose_weights: Mapping[str, float]) -> Array:
+    """Welded positions of the face at these pose weights (a copy)."""
+    blender = PoseBlender(project.mesh.rest, project.poses)
+    return blender.blend(active_poses(project, pose_weights)).copy()
+
+
+def strain_weights(project: Project, pose_weights: Mapping[str, float],
+                   full_at: float = DEFAULT_FULL_AT) -> Array:
+    """(W,) what the automatic mode shows at these pose weights, 0 on not-face vertices."""
+    positions = posed_positions(project, pose_weights)
+    return StrainField(project.mesh).weights(positions, full_at) * project.skin_weights()
+
+
+def strain_area_name(project: Project, pose_weights: Mapping[str, float]) -> str:
+    names = list(active_poses(project, pose_weights))
+    return " + ".join(names[:3]) + (" …" if len(names) > 3 else "") + " strain"
+
+
+def _need_active(project: Project, pose_weights: Mapping[str, float]) -> dict[str, float]:
+    active = active_poses(project, pose_weights)
+    if not active:
+        raise StudioError("the face is in its neutral pose, where the automatic mode shows no "
+                          "wrinkles: move a pose slider first")
+    return active
+
+
+def strain_mask(project: Project, pose_weights: Mapping[str, float], *,
+                mask_size: int | None = None, full_at: float = DEFAULT_FULL_AT,
+                softness: float = 0.0) -> tuple[InfluenceArea, dict[str, dict[str, float]]]:
+    """The automatic mode's wrinkle weights at these pose weights as a technique-1 mask, and
+    links that give it activation 1 at these weights (gain 1/Σw per active pose, at most
+    ``MAX_LINK_GAIN``), so technique 1 then shows what the automatic mode showed.
+
+    Raises StudioError in the neutral pose or where the pose compresses no skin.
+    """
+    active = _need_active(project, pose_weights)
+    mask = mask_from_weights(project.mesh, strain_weights(project, active, full_at),
+                             setup_mask_size(project, mask_size), softness)
+    if not mask.any():
+        raise StudioError("the automatic mode shows no wrinkles at these pose weights "
+                          "(no skin is compressed)")
+    name = unique_name(strain_area_name(project, active),
+                       (a.name for a in project.influence.areas))
+    gain = min(1.0 / sum(active.values()), MAX_LINK_GAIN)
+    area = InfluenceArea(name, mask, colour=area_colour(len(project.influence.areas)))
+    return area, {pose: {name: gain} for pose in active}
+
+
+def strain_wdv_area(project: Project, pose_weights: Mapping[str, float], *,
+                    threshold: float = STRAIN_THRESHOLD,
+                    full_at: float = DEFAULT_FULL_AT) -> WdvArea:
+    """A technique-2 area on the vertices whose automatic wrinkle weight exceeds ``threshold``
+    at these pose weights, pointing along their displacement there; its pose is the strongest
+    active one. Raises StudioError in the neutral pose or where no vertex qualifies."""
+    active = _need_active(project, pose_weights)
+    weights = strain_weights(project, active, full_at)
+    target = skin_target(project, posed_positions(project, active))
+    name = unique_name(strain_area_name(project, active), (a.name for a in project.wdv.areas))
+    area = wdv_area_from_selection(name, next(iter(active)), project.mesh.rest, target,
+                                   weights > threshold,
+                                   colour=area_colour(len(project.wdv.areas)))
+    if area is None:
+        raise StudioError(f"no vertex has an automatic wrinkle weight above {threshold:g} at "
+                          "these pose weights")
+    return area

@@ -1,0 +1,316 @@
+"""Where the face is, and which way is up and front — for a head made anywhere.
+
+Heads arrive in any units, anywhere in space, Y-up (glTF, Maya) or Z-up (Blender, 3ds Max),
+with a neck, shoulders, eyes and teeth. The camera, the default framing and the report's region
+names need the face's own frame, found here from the geometry and the key poses:
+
+- **The face region** is the skin the key poses *deform* (edge lengths change), not merely move:
+  a neck carried along by a jaw opening is translated, not deformed, and stays out.
+- **Up**: given (``--up``), else from poses whose names say which way they move the skin
+  (``browInnerUp`` up, ``jawOpen`` down, …: their mean motion, snapped to an axis when within
+  30°), else the longer of the Y and Z extents (the two conventions in use).
+- **Front**: the way the face region's surface faces (area-weighted normals, left and right
+  cancel), checked against where the face region sits on the head (a face is at its front; a
+  file whose normals point inward is caught there).
+- **Left** = up × front: the character's own left (+X for the bundled sample).
+
+Every threshold is relative to the face's own size or motion, never in model units.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from studio.core.animation.pose_names import canonical
+from studio.core.files.errors import StudioError
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.mesh.face_regions import region_name
+
+Array = np.ndarray
+
+AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
+        "+z": (0, 0, 1), "-z": (0, 0, -1)}
+SNAP_DEGREES = 30.0  # a detected direction this close to an axis is taken as that axis
+DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation is face
+MARGIN = 1.12  # the face box, a little larger than the deformed skin
+
+# Which way poses move the skin, by ARKit name, and by words other rigs use
+_UPWARD = {"browInnerUp", "browOuterUpLeft", "browOuterUpRight", "eyeWideLeft", "eyeWideRight",
+           "noseSneerLeft", "noseSneerRight", "mouthUpperUpLeft", "mouthUpperUpRight",
+           "cheekSquintLeft", "cheekSquintRight", "mouthSmileLeft", "mouthSmileRight"}
+_DOWNWARD = {"jawOpen", "browDownLeft", "browDownRight", "mouthLowerDownLeft",
+             "mouthLowerDownRight", "mouthFrownLeft", "mouthFrownRight", "eyeBlinkLeft",
+             "eyeBlinkRight"}
+_UP_WORDS = ("browraise", "browsup", "browup", "surprise", "raise")
+_DOWN_WORDS = ("frown", "browdown", "jawdown", "blink")
+
+
+def parse_axis(text: str) -> Array:
+    """``y``, ``+z``, ``-Y``, … as a unit vector; StudioError for anything else."""
+    key = str(text).strip().lower()
+    key = key if key[:1] in "+-" else f"+{key}"
+    if key not in AXES:
+        raise StudioError(f"'{text}' is not an axis (use x, y, z, -x, -y or -z)")
+    return np.array(AXES[key], np.float64)
+
+
+def axis_name(vector: Array) -> str:
+    """"+Z" for (0, 0, 1); the vector itself, rounded, when it is not along an axis."""
+    v = np.asarray(vector, float)
+    for name, axis in AXES.items():
+        if np.allclose(v, axis, atol=1e-6):
+            return name.upper()
+    return "(" + ", ".join(f"{c:.2f}" for c in v) + ")"
+
+
+def _snap(vector: Array, allowed: Iterable[str] = AXES) -> tuple[Array, bool]:
+    """The nearest allowed axis if within ``SNAP_DEGREES``, else the unit vector itself."""
+    v = np.asarray(vector, float)
+    v = v / max(np.linalg.norm(v), 1e-300)
+    allowed = list(allowed)
+    if not allowed:
+        return v, False
+    best = max(allowed, key=lambda name: float(np.dot(v, AXES[name])))
+    if np.degrees(np.arccos(np.clip(np.dot(v, AXES[best]), -1, 1))) <= SNAP_DEGREES:
+        return np.array(AXES[best], np.float64), True
+    return v, False
+
+
+def face_frame(project) -> FaceFrame:
+    """A project's face frame (``project.view["up"]`` is the up axis chosen at import, if
+    any). ``project`` is a ``studio.core.project.model.Project``."""
+    return detect_face_frame(project.mesh.rest, project.mesh.welded_triangles,
+                             [p.positions for p in project.poses],
+                             [p.name for p in project.poses], project.skin_weights(),
+                             project.view.get("up"))
+
+
+def face_locator(frame: FaceFrame):
+    """A function naming the face region nearest to a model-space point (for reports)."""
+    def locate(point: Array) -> str:
+        x, y, _ = frame.to_face(np.asarray(point, np.float64)[None])[0]
+        return region_name(float(x), float(y))
+
+    return locate
+
+
+def _pose_direction(name: str, words: bool) -> int:
+    """+1 for a pose that moves skin up, −1 down, 0 when its name does not say: by its ARKit
+    name, or (``words``) by a word such as "raise" or "frown" in it."""
+    known = canonical(name)
+    if known is not None:
+        return 1 if known in _UPWARD else -1 if known in _DOWNWARD else 0
+    if not words:
+        return 0
+    key = re.sub(r"[\s_.\-]", "", name.lower())
+    if any(word in key for word in _DOWN_WORDS):
+        return -1
+    return 1 if any(word in key for word in _UP_WORDS) else 0
+
+
+@dataclass(frozen=True)
+class FaceFrame:
+    """The face's axes (unit vectors in model space), the centre and half-size of its box
+    along them, and what was assumed to find them."""
+
+    left: tuple[float, float, float]
+    up: tuple[float, float, float]
+    front: tuple[float, float, float]
+    centre: tuple[float, float, float]
+    half: tuple[float, float, float]  # half-extents along left, up, front
+    how: str
+    mirror_axis: int = 0  # the model axis (0, 1, 2) that runs from the face's right to its left
+    mirror_plane: float = 0.0  # … and where along it the left–right symmetry plane lies
+
+    def basis(self) -> Array:
+        """3×3 whose columns are left, up, front: face coordinates → model directions."""
+        return np.column_stack([self.left, self.up, self.front]).astype(np.float64)
+
+    def to_face(self, points: Array) -> Array:
+        """(N, 3) points in normalised face coordinates: x toward the character's left, y up,
+        z toward the front, the face box spanning −1 … 1."""
+        local = (np.asarray(points, np.float64) - self.centre) @ self.basis()
+        return local / np.asarray(self.half)
+
+    def corners(self) -> Array:
+        """The face box's 8 corners in model space, for framing it."""
+        signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)],
+                         np.float64)
+        return np.asarray(self.centre) + (signs * self.half) @ self.basis().T
+
+    def to_dict(self) -> dict:
+        return {"left": list(self.left), "up": list(self.up), "front": list(self.front),
+                "centre": list(self.centre), "half": list(self.half), "how": self.how,
+                "mirror_axis": self.mirror_axis, "mirror_plane": self.mirror_plane}
+
+
+def _deformation(rest: Array, poses: Sequence[Array], edges: Array) -> Array:
+    """(W,) per vertex, the largest relative change of its edges' lengths over the poses."""
+    a, b = edges[:, 0], edges[:, 1]
+    rest_len = np.linalg.norm(rest[a] - rest[b], axis=1)
+    ok = rest_len > 0
+    out = np.zeros(len(rest), np.float64)
+    for positions in poses:
+        length = np.linalg.norm(positions[a] - positions[b], axis=1)
+        change = np.where(ok, np.abs(length / np.where(ok, rest_len, 1.0) - 1.0), 0.0)
+        np.maximum.at(out, a, change)
+        np.maximum.at(out, b, change)
+    return out
+
+
+def _edges(triangles: Array) -> Array:
+    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    e.sort(axis=1)
+    return np.unique(e, axis=0)
+
+
+def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = (),
+                      pose_names: Sequence[str] = (), skin: Array | None = None,
+                      up: str | None = None) -> FaceFrame:
+    """The face's frame from the neutral positions (W, 3), welded triangles, the key poses'
+    positions and names, the skin flags (not-face vertices excluded) and an optional up axis."""
+    rest = np.asarray(rest, np.float64)
+    triangles = np.asarray(triangles)
+    skin = np.ones(len(rest), bool) if skin is None else np.asarray(skin) > 0
+    poses = [np.asarray(p, np.float64) for p in poses]
+    notes: list[str] = []
+    skin_points = rest[skin] if skin.any() else rest
+    size = float(np.linalg.norm(np.ptp(skin_points, axis=0))) or 1.0
+
+    # the face region: skin the poses deform
+    face = np.zeros(len(rest), bool)
+    if poses:
+        deformed = _deformation(rest, poses, _edges(triangles)) * skin
+        strong = float(np.percentile(deformed[deformed > 0], 95)) if (deformed > 0).any() else 0
+        if strong > 1e-6:
+            face = deformed > DEFORMED_SHARE * strong
+
+    # up
+    if up is not None:
+        up_vec = parse_axis(up)
+        notes.append(f"up {axis_name(up_vec)} (as given)")
+    else:
+        up_vec, reason = _up_from_poses(rest, poses, pose_names, skin, size)
+        if up_vec is None:
+            ext = np.ptp(skin_points, axis=0)
+            up_vec = np.array(AXES["+z"] if ext[2] > ext[1] * 1.001 else AXES["+y"], float)
+            reason = "the longer of the Y and Z extents; give --up to choose"
+        notes.append(f"up {axis_name(up_vec)} ({reason})")
+
+    # front
+    if face.sum() >= 3:
+        region = face
+        front_vec, reason = _front(rest, triangles, region, skin, up_vec)
+    else:  # nothing shows where the face is: the convention that goes with the up axis
+        region = _front_guess(rest, skin, up_vec)
+        front_vec, reason = _conventional_front(up_vec)
+        notes.append("no key pose deforms the skin: the face is taken to be the upper skin")
+    notes.append(f"front {axis_name(front_vec)} ({reason})")
+    left_vec = np.cross(up_vec, front_vec)
+    left_vec /= np.linalg.norm(left_vec)
+
+    basis = np.column_stack([left_vec, up_vec, front_vec])
+    local = rest[region] @ basis
+    lo, hi = np.percentile(local, 1, axis=0), np.percentile(local, 99, axis=0)
+    centre_local = (lo + hi) / 2.0
+    half = np.maximum((hi - lo) / 2.0 * MARGIN, 1e-3 * size)
+    centre = basis @ centre_local
+    def floats(v: Array) -> tuple[float, float, float]:
+        return tuple(float(x) for x in v)  # type: ignore[return-value]
+
+    # the left-right symmetry plane, for mirroring masks and selections: across the model
+    # axis nearest to "left", through the middle of the skin (a head is symmetric)
+    mirror_axis = int(np.argmax(np.abs(left_vec)))
+    mirror_plane = float(np.mean(skin_points[:, mirror_axis]))
+    return FaceFrame(floats(left_vec), floats(up_vec), floats(front_vec), floats(centre),
+                     floats(half), "; ".join(notes), mirror_axis, mirror_plane)
+
+
+def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], skin: Array,
+                   size: float) -> tuple[Array | None, str]:
+    """Up from the poses whose names say which way they move the skin: each votes for the
+    axes by its mean motion's component along them (signed by up or down), and the axis with
+    the most votes wins — a one-sided frown that mostly pulls sideways still says "down" a
+    little, and a brow raise says "up" a lot."""
+    votes = np.zeros(len(AXES))
+    axes = np.array(list(AXES.values()), np.float64)
+    used = []
+    # ARKit names are unambiguous: when a rig has them, only they vote
+    words = not any(_pose_direction(name, False) for name in names)
+    for name, positions in zip(names, poses, strict=False):
+        sign = _pose_direction(name, words)
+        if sign == 0:
+            continue
+        motion = (positions - rest)[skin]
+        length = np.linalg.norm(motion, axis=1)
+        if length.max(initial=0.0) < 1e-5 * size:
+            continue
+        mean = motion[length > 0.2 * length.max()].mean(axis=0)
+        if np.linalg.norm(mean) > 0:
+            votes += sign * axes @ (mean / np.linalg.norm(mean))
+            used.append(name)
+    if not used or votes.max() < 0.5:
+        return None, ""
+    best = int(np.argmax(votes))
+    shown = ", ".join(used[:3]) + (" …" if len(used) > 3 else "")
+    return axes[best], f"from the motion of {shown}"
+
+
+def _conventional_front(up: Array) -> tuple[Array, str]:
+    """Y up → the face looks toward +Z (glTF, Maya); Z up → toward −Y (Blender)."""
+    key = axis_name(up)
+    fronts = {"+Y": "+z", "-Y": "-z", "+Z": "-y", "-Z": "+y", "+X": "+z", "-X": "+z"}
+    if key in fronts:
+        return np.array(AXES[fronts[key]], np.float64), "the usual convention with that up axis"
+    other = np.cross(up, [1.0, 0.0, 0.0] if abs(up[0]) < 0.9 else [0.0, 1.0, 0.0])
+    return other / np.linalg.norm(other), "nothing to go by; an arbitrary side"
+
+
+def _front_guess(rest: Array, skin: Array, up: Array) -> Array:
+    """Without deforming poses: the upper half of the skin, to frame (a face is not a neck)."""
+    height = rest @ up
+    skin_height = height[skin] if skin.any() else height
+    return skin & (height >= np.percentile(skin_height, 50))
+
+
+def _front(rest: Array, triangles: Array, region: Array, skin: Array, up: Array
+           ) -> tuple[Array, str]:
+    """The horizontal direction the region's surface faces, snapped to an axis when close."""
+    tri = triangles[region[triangles].all(axis=1)]
+    p = rest[tri]
+    normal_sum = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]).sum(axis=0)
+    horizontal = normal_sum - np.dot(normal_sum, up) * up
+    centre_offset = rest[region].mean(axis=0) - (rest[skin] if skin.any() else rest).mean(axis=0)
+    offset = centre_offset - np.dot(centre_offset, up) * up
+    reason = "the way the face's surface faces"
+    if np.linalg.norm(horizontal) <= 1e-9 * max(np.linalg.norm(normal_sum), 1e-300):
+        horizontal, reason = offset, "where the face sits on the head"
+    elif np.linalg.norm(offset) > 0 and np.dot(horizontal, offset) < -0.5 * np.linalg.norm(
+            horizontal) * np.linalg.norm(offset):
+        horizontal, reason = -horizontal, "the surface's normals point inward; taken reversed"
+    if np.linalg.norm(horizontal) == 0:
+        horizontal = np.cross(up, np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9
+                              else np.array([0.0, 1.0, 0.0]))
+        reason = "nothing to go by; an arbitrary side"
+    allowed = [n for n, a in AXES.items() if abs(np.dot(a, up)) < 1e-9]
+    vector, snapped = _snap(horizontal, allowed)
+    if not snapped:
+        vector = horizontal / np.linalg.norm(horizontal)
+    return vector, reason
+
+
+def aim(camera: OrbitCamera, project, frame: str = "face",
+        face: FaceFrame | None = None) -> FaceFrame:
+    """Turn the camera to the face's axes and frame the face or the whole mesh; returns the
+    face frame it found (or was given)."""
+    face = face or face_frame(project)
+    camera.basis = face.basis()
+    if frame == "face":
+        camera.frame_points(face.corners())
+    else:
+        camera.frame(*project.mesh.bounds())
+    return face

@@ -1,0 +1,45 @@
+"""A technique-1 area made for the other side of the face: its mask mirrored through the mesh,
+its name and its poses swapped to their paired side (``browDown_L`` → ``browDown_R``), so a mask
+painted or generated on one side serves both."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from studio.core.animation.pose_names import mirror_name, swapped_sides
+from studio.core.files.naming import unique_name
+from studio.core.project.model import Project
+from studio.core.wrinkles.influence import InfluenceArea
+from studio.core.wrinkles.surface_mirror import SurfaceMirror, mirror_mask
+
+
+@dataclass
+class MirroredArea:
+    area: InfluenceArea  # the new area, or the paired one with its new mask
+    replaces: int | None  # index of the paired area it replaces; None: added after the source
+    links: dict[str, float]  # pose -> gain, for the new area
+
+
+def mirrored_area(project: Project, index: int, mirror: SurfaceMirror) -> MirroredArea:
+    """The area at ``index`` mirrored to the other side. An area named for one side becomes
+    its pair (replacing an area of that name, if there is one); poses it follows become their
+    pairs (a pose without one, such as ``browInnerUp``, keeps driving the copy)."""
+    source = project.influence.areas[index]
+    names = [a.name for a in project.influence.areas]
+    paired = next(iter(swapped_sides(source.name)), None)
+    replaces = names.index(paired) if paired in names else None
+    name = paired if paired is not None else unique_name(f"{source.name} mirrored", names)
+    mask = mirror_mask(source.mask, mirror)
+    if replaces is not None:
+        old = project.influence.areas[replaces]
+        area = InfluenceArea(old.name, mask, old.colour, old.activation, old.visible,
+                             old.wrinkle_map)
+    else:
+        area = InfluenceArea(name, mask, source.colour, source.activation, source.visible,
+                             source.wrinkle_map)
+    poses = project.pose_names
+    links = {}
+    for pose, gains in project.influence.links.items():
+        if source.name in gains:
+            links[mirror_name(pose, poses) or pose] = gains[source.name]
+    return MirroredArea(area, replaces, links)

@@ -1,0 +1,560 @@
+"""The UV paint canvas: the UV layout over a map, the masks on top, painted like in an image editor.
+
+Scene units are mask pixels (x right, y down), so a brush radius in the panel is a radius here.
+The mask overlay is an RGBA buffer updated only where ``maskRegionChanged`` says; the item repaints
+that rectangle alone, so strokes stay smooth at 4096². Zoom: wheel (around the cursor); pan:
+middle-drag or Space+left-drag; F fits the layout. Left-drag paints, X toggles the eraser,
+[ and ] change the brush size. A tablet's pressure scales each dab.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import QLineF, QPointF, QRectF, Qt
+from PySide6.QtGui import (
+    QBrush,
+    QColor,
+    QImage,
+    QKeyEvent,
+    QMouseEvent,
+    QPainter,
+    QPen,
+    QPixmap,
+    QTabletEvent,
+    QTransform,
+    QWheelEvent,
+)
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QGraphicsEllipseItem,
+    QGraphicsItem,
+    QGraphicsPixmapItem,
+    QGraphicsScene,
+    QGraphicsView,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSizePolicy,
+    QVBoxLayout,
+    QWidget,
+)
+
+from studio.core.wrinkles import mask_ops
+from studio.core.wrinkles.mask_ops import mesh_edges
+from studio.widgets.document import Document
+from studio.widgets.paint.areas_panel import MIRROR_MODES, PaintState
+from studio.widgets.paint.edits import PaintSession
+
+OVERLAY_ALPHA = 0.7
+OVER_RGBA = (255, 40, 40, 170)
+NONE_RGBA = (0, 0, 0, 120)  # a dark veil where no area reaches
+
+
+def to_qimage(rgb: np.ndarray) -> QImage:
+    """An 8-bit RGB copy of a texture (16-bit maps are shown at 8 bits)."""
+    if rgb.dtype == np.uint16:
+        rgb = (rgb >> 8).astype(np.uint8)
+    rgb = np.ascontiguousarray(rgb[:, :, :3])
+    h, w = rgb.shape[:2]
+    return QImage(rgb.data, w, h, 3 * w, QImage.Format.Format_RGB888).copy()
+
+
+class BufferItem(QGraphicsItem):
+    """An RGBA image in scene pixels whose rectangles can be rewritten and repainted alone."""
+
+    def __init__(self, w: int, h: int) -> None:
+        super().__init__()
+        self.resize(w, h)
+        self.setFlag(QGraphicsItem.GraphicsItemFlag.ItemUsesExtendedStyleOption)
+
+    def resize(self, w: int, h: int) -> None:
+        self.prepareGeometryChange()
+        self.buffer = np.zeros((h, w, 4), np.uint8)  # premultiplied RGBA
+        self.image = QImage(self.buffer.data, w, h, 4 * w,
+                            QImage.Format.Format_RGBA8888_Premultiplied)
+
+    def boundingRect(self) -> QRectF:
+        return QRectF(0, 0, self.buffer.shape[1], self.buffer.shape[0])
+
+    def paint(self, painter: QPainter, option, widget=None) -> None:
+        rect = option.exposedRect.intersected(self.boundingRect()).toAlignedRect()
+        if rect.isEmpty():
+            return
+        painter.drawImage(rect, self.image, rect)
+
+    def write(self, x: int, y: int, rgba: np.ndarray) -> None:
+        h, w = rgba.shape[:2]
+        self.buffer[y:y + h, x:x + w] = rgba
+        self.update(QRectF(x, y, w, h))
+
+
+class LinesItem(QGraphicsItem):
+    """The UV wireframe: one drawLines call per repaint.
+
+    (Not a QPainterPath built edge by edge: thousands of binding calls per rebuild are slow, and
+    with PySide6 6.12 on Python 3.11 every void-returning call drops a reference to None.)
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.lines: list[QLineF] = []
+        self.rect = QRectF()
+        self.pen = QPen(QColor(255, 255, 255, 110))
+        self.pen.setCosmetic(True)
+        self.pen.setWidthF(0.8)
+
+    def set_lines(self, segments: np.ndarray, rect: QRectF) -> None:
+        """segments: (E, 2, 2) endpoints in scene pixels."""
+        self.prepareGeometryChange()
+        self.lines = [QLineF(ax, ay, bx, by) for (ax, ay), (bx, by) in segments.tolist()]
+        self.rect = rect
+        self.update()
+
+    def boundingRect(self) -> QRectF:
+        return self.rect
+
+    def paint(self, painter: QPainter, option, widget=None) -> None:
+        painter.setPen(self.pen)
+        painter.drawLines(self.lines)
+
+
+class PaintView(QGraphicsView):
+    """The canvas itself: navigation, the brush cursor and painting."""
+
+    def __init__(self, canvas: UvCanvas) -> None:
+        super().__init__(canvas.scene)
+        self.canvas = canvas
+        self.setTransformationAnchor(QGraphicsView.ViewportAnchor.AnchorUnderMouse)
+        self.setResizeAnchor(QGraphicsView.ViewportAnchor.AnchorViewCenter)
+        self.setViewportUpdateMode(QGraphicsView.ViewportUpdateMode.MinimalViewportUpdate)
+        self.setBackgroundBrush(QColor(38, 38, 42))
+        self.setMouseTracking(True)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setCursor(Qt.CursorShape.CrossCursor)
+        self._pan: QPointF | None = None
+        self._space = False
+        self._session: PaintSession | None = None
+        self._fitted = True  # until the user zooms or pans
+
+    # navigation
+    def fit(self) -> None:
+        """The chosen UV tile (or the whole UV square) in view; it stays fitted on resize until
+        the user zooms or pans."""
+        rect = self.canvas.tile_rect()
+        margin = max(rect.width(), rect.height()) / 128.0
+        self.fitInView(rect.adjusted(-margin, -margin, margin, margin),
+                       Qt.AspectRatioMode.KeepAspectRatio)
+        self._fitted = True
+
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        if self._fitted:
+            self.fit()
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        if self._fitted:
+            self.fit()
+
+    def wheelEvent(self, event: QWheelEvent) -> None:
+        steps = event.angleDelta().y() / 120.0
+        factor = 1.2 ** steps
+        scale = self.transform().m11() * factor
+        if 0.02 < scale < 64.0:
+            self.scale(factor, factor)
+            self._fitted = False
+        self.canvas.update_cursor(self.mapToScene(event.position().toPoint()))
+
+    def _start_pan(self, event: QMouseEvent) -> None:
+        self._pan = event.position()
+        self._fitted = False
+        self.setCursor(Qt.CursorShape.ClosedHandCursor)
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:
+        button = event.button()
+        if button == Qt.MouseButton.MiddleButton or (
+                button == Qt.MouseButton.LeftButton and self._space):
+            self._start_pan(event)
+        elif button == Qt.MouseButton.LeftButton:
+            self._begin(event.position(), 1.0)
+        else:
+            super().mousePressEvent(event)
+
+    def mouseMoveEvent(self, event: QMouseEvent) -> None:
+        if self._pan is not None:
+            delta = event.position() - self._pan
+            self._pan = event.position()
+            h, v = self.horizontalScrollBar(), self.verticalScrollBar()
+            h.setValue(h.value() - round(delta.x()))
+            v.setValue(v.value() - round(delta.y()))
+            return
+        self.canvas.update_cursor(self.mapToScene(event.position().toPoint()))
+        if self._session is not None:
+            self._continue(event.position(), 1.0)
+
+    def mouseReleaseEvent(self, event: QMouseEvent) -> None:
+        if self._pan is not None and event.button() in (Qt.MouseButton.MiddleButton,
+                                                         Qt.MouseButton.LeftButton):
+            self._pan = None
+            self.setCursor(Qt.CursorShape.OpenHandCursor if self._space
+                           else Qt.CursorShape.CrossCursor)
+        elif event.button() == Qt.MouseButton.LeftButton:
+            self._finish()
+
+    def tabletEvent(self, event: QTabletEvent) -> None:
+        """Pen input: the same stroke, each dab scaled by the pen's pressure."""
+        kind = event.type()
+        pressure = float(event.pressure())
+        if kind == QTabletEvent.Type.TabletPress and not self._space:
+            self._begin(event.position(), pressure)
+        elif kind == QTabletEvent.Type.TabletMove:
+            self.canvas.update_cursor(self.mapToScene(event.position().toPoint()))
+            if self._session is not None:
+                self._continue(event.position(), pressure)
+        elif kind == QTabletEvent.Type.TabletRelease:
+            self._finish()
+        event.accept()
+
+    def keyPressEvent(self, event: QKeyEvent) -> None:
+        key = event.key()
+        if key == Qt.Key.Key_Space and not event.isAutoRepeat():
+            self._space = True
+            self.setCursor(Qt.CursorShape.OpenHandCursor)
+        elif key == Qt.Key.Key_F:
+            self.fit()
+        elif key in (Qt.Key.Key_BracketLeft, Qt.Key.Key_BracketRight):
+            self.canvas.state.scale_radius(0.8 if key == Qt.Key.Key_BracketLeft else 1.25)
+        elif key == Qt.Key.Key_X:
+            self.canvas.state.set_erase(not self.canvas.state.brush.erase)
+        else:
+            super().keyPressEvent(event)
+
+    def keyReleaseEvent(self, event: QKeyEvent) -> None:
+        if event.key() == Qt.Key.Key_Space and not event.isAutoRepeat():
+            self._space = False
+            if self._pan is None:
+                self.setCursor(Qt.CursorShape.CrossCursor)
+        else:
+            super().keyReleaseEvent(event)
+
+    # painting
+    def _begin(self, pos: QPointF, pressure: float) -> None:
+        state = self.canvas.state
+        if state.active < 0 or state.active >= len(self.canvas.doc.project.influence.areas):
+            self.canvas.hint.setText("Add or select an area in the Areas panel to paint.")
+            return
+        self._session = PaintSession(self.canvas.doc, state.active, state.brush,
+                                     state.stroke_mirror(self.canvas.doc.project.mesh))
+        p = self.mapToScene(pos.toPoint())
+        self._session.jump(p.x(), p.y(), pressure)
+
+    def _continue(self, pos: QPointF, pressure: float) -> None:
+        p = self.mapToScene(pos.toPoint())
+        self._session.to(p.x(), p.y(), pressure)
+
+    def _finish(self) -> None:
+        if self._session is not None:
+            self._session.end()
+            self._session = None
+
+
+class UvCanvas(QWidget):
+    """The 2-D paint surface (a dock): header with view options, then the view."""
+
+    def __init__(self, document: Document, state: PaintState, parent: QWidget | None = None
+                 ) -> None:
+        super().__init__(parent)
+        self.doc = document
+        self.state = state
+        self.scene = QGraphicsScene(self)
+        self.background = QGraphicsPixmapItem()
+        self.background.setTransformationMode(Qt.TransformationMode.SmoothTransformation)
+        self.scene.addItem(self.background)
+        self.masks = BufferItem(1, 1)
+        self.scene.addItem(self.masks)
+        self.overlap_item = BufferItem(1, 1)
+        self.scene.addItem(self.overlap_item)
+        self.wire = LinesItem()
+        self.scene.addItem(self.wire)
+        self.cursor_item = QGraphicsEllipseItem()
+        cursor_pen = QPen(QColor(255, 255, 255, 230))
+        cursor_pen.setCosmetic(True)
+        cursor_pen.setWidthF(1.5)
+        self.cursor_item.setPen(cursor_pen)
+        self.inner_cursor = QGraphicsEllipseItem()
+        inner_pen = QPen(QColor(255, 255, 255, 120), 1.0, Qt.PenStyle.DashLine)
+        inner_pen.setCosmetic(True)
+        self.inner_cursor.setPen(inner_pen)
+        self.mirror_cursor = QGraphicsEllipseItem()  # where the mirror paints, when it is on
+        mirror_pen = QPen(QColor(255, 255, 255, 170), 1.2, Qt.PenStyle.DashLine)
+        mirror_pen.setCosmetic(True)
+        self.mirror_cursor.setPen(mirror_pen)
+        for item in (self.cursor_item, self.inner_cursor, self.mirror_cursor):
+            item.setBrush(QBrush(Qt.BrushStyle.NoBrush))
+            item.setZValue(10)
+            self.scene.addItem(item)
+            item.hide()
+
+        self.view = PaintView(self)
+        self.backdrop = QComboBox()
+        for label, key in (("Diffuse", "diffuse"), ("Wrinkled normal map", "normal_wrinkled"),
+                           ("Neutral normal map", "normal_neutral"), ("No map", "none")):
+            self.backdrop.addItem(label, key)
+        self.backdrop.setToolTip("What the UV layout is drawn over")
+        self.show_all = QCheckBox("All areas")
+        self.show_all.setToolTip("Show every visible area in its colour, not only the active one")
+        self.tile = QComboBox()
+        self.tile.setToolTip("Which UDIM tile to show (the face's tiles share one atlas)")
+        self.tile_items: list = []  # cell borders and tile numbers, drawn over the layout
+        self.show_wire = QCheckBox("UV wireframe")
+        self.show_wire.setChecked(True)
+        fit = QPushButton("Fit")
+        fit.setToolTip("Fit the UV square in the view (F)")
+        self.hint = QLabel("")
+        self.hint.setStyleSheet("color: #9a9a9a;")
+        self.hint.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        head = QHBoxLayout()
+        head.setContentsMargins(4, 2, 4, 2)
+        head.addWidget(self.backdrop)
+        head.addWidget(self.tile)
+        head.addWidget(self.show_all)
+        head.addWidget(self.show_wire)
+        head.addStretch(1)
+        head.addWidget(fit)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(0)
+        layout.addLayout(head)
+        layout.addWidget(self.view, 1)
+        layout.addWidget(self.hint)
+
+        self.backdrop.currentIndexChanged.connect(lambda _: self._load_background())
+        self.tile.currentIndexChanged.connect(lambda _: self.view.fit())
+        self.show_all.toggled.connect(self._toggle_all)
+        self.show_wire.toggled.connect(self.wire.setVisible)
+        fit.clicked.connect(self.view.fit)
+        d = document
+        d.projectReplaced.connect(self.rebuild)
+        d.posesChanged.connect(self._load_wire)
+        d.texturesChanged.connect(self._load_background)
+        d.masksChanged.connect(self.refresh_masks)
+        d.areasChanged.connect(self.refresh_masks)
+        d.maskRegionChanged.connect(self._region_changed)
+        d.activationsChanged.connect(self._activations_changed)
+        d.poseWeightsChanged.connect(self._activations_changed)
+        state.changed.connect(self._state_changed)
+        state.activeChanged.connect(lambda _: self.refresh_masks())
+        self._coverage: np.ndarray | None = None
+        self.rebuild()
+
+    # --- building ------------------------------------------------------------------------------
+    def mask_size(self) -> tuple[int, int]:
+        res = self.doc.project.influence.resolution
+        return (res[1], res[0]) if res else (1024, 1024)
+
+    def layout_rect(self) -> QRectF:
+        w, h = self.mask_size()
+        return QRectF(0, 0, w, h)
+
+    def tile_rect(self) -> QRectF:
+        """The chosen tile's cell in scene pixels (the whole layout for "All tiles")."""
+        tiles = self.doc.project.uv_tiles
+        tile = self.tile.currentData()
+        if tiles is None or tile is None:
+            return self.layout_rect()
+        x, y, side = tiles.layout.cells[tiles.layout.index(tile)]
+        w, h = self.mask_size()
+        return QRectF(x * w, y * h, side * w, side * h)
+
+    def _load_tiles(self) -> None:
+        """The tile chooser and each tile's border and UDIM number, for a tiled face."""
+        for item in self.tile_items:
+            self.scene.removeItem(item)
+        self.tile_items = []
+        tiles = self.doc.project.uv_tiles
+        self.tile.blockSignals(True)
+        self.tile.clear()
+        self.tile.addItem("All tiles", None)
+        if tiles is not None:
+            skin = set(self.doc.project.skin_tiles())
+            for tile in tiles.layout.tiles:
+                self.tile.addItem(f"{tile}{' (skin)' if tile in skin else ''}", tile)
+            first_skin = next((t for t in tiles.layout.tiles if t in skin), None)
+            self.tile.setCurrentIndex(self.tile.findData(first_skin) if first_skin else 0)
+            w, h = self.mask_size()
+            pen = QPen(QColor(255, 210, 90, 200), 1.5)
+            pen.setCosmetic(True)
+            for tile, (x, y, side) in zip(tiles.layout.tiles, tiles.layout.cells, strict=True):
+                box = self.scene.addRect(QRectF(x * w, y * h, side * w, side * h), pen)
+                label = self.scene.addSimpleText(str(tile))
+                label.setBrush(QColor(255, 210, 90))
+                label.setFlag(QGraphicsItem.GraphicsItemFlag.ItemIgnoresTransformations)
+                label.setPos(x * w + 4, y * h + 4)
+                for item in (box, label):
+                    item.setZValue(5)
+                    self.tile_items.append(item)
+        self.tile.setVisible(tiles is not None)
+        self.tile.blockSignals(False)
+
+    def rebuild(self) -> None:
+        self._coverage = None
+        self._load_tiles()
+        self._load_background()
+        self._load_wire()
+        self.refresh_masks()
+        self.view.fit()
+
+    def _load_background(self) -> None:
+        key = self.backdrop.currentData()
+        w, h = self.mask_size()
+        if key == "none":
+            self.background.setPixmap(QPixmap())
+            return
+        image = to_qimage(getattr(self.doc.project.textures, key))
+        pix = QPixmap.fromImage(image)
+        self.background.setPixmap(pix)
+        self.background.setTransform(QTransform.fromScale(w / max(pix.width(), 1),
+                                                          h / max(pix.height(), 1)))
+
+    def _load_wire(self) -> None:
+        """The UV layout's edges (render vertices, so seams show as chart borders)."""
+        mesh = self.doc.project.mesh
+        w, h = self.mask_size()
+        pts = np.c_[mesh.uvs[:, 0] * w, (1.0 - mesh.uvs[:, 1]) * h].astype(float)
+        self.wire.set_lines(pts[mesh_edges(mesh.triangles)], QRectF(0, 0, w, h))
+
+    # --- the mask overlay ----------------------------------------------------------------------
+    def _rgba(self, x: int, y: int, w: int, h: int) -> np.ndarray:
+        """Premultiplied RGBA of the masks in one rectangle."""
+        areas = self.doc.project.influence.areas
+        out = np.zeros((h, w, 4), np.uint8)
+        if self.show_all.isChecked():
+            shown = [a for a in areas if a.visible]
+        else:
+            a = self.state.active
+            shown = [areas[a]] if 0 <= a < len(areas) else []
+        if not shown:
+            return out
+        m = np.stack([a.mask[y:y + h, x:x + w] for a in shown])  # (n, h, w)
+        colours = np.array([a.colour for a in shown], np.float32)  # (n, 3)
+        total = m.sum(axis=0)
+        alpha = np.clip(m.max(axis=0), 0.0, 1.0) * OVERLAY_ALPHA
+        rgb = np.tensordot(m, colours, axes=(0, 0)) / np.maximum(total, 1e-6)[..., None]
+        out[..., :3] = np.rint(rgb * alpha[..., None]).astype(np.uint8)
+        out[..., 3] = np.rint(alpha * 255.0).astype(np.uint8)
+        return out
+
+    def _overlap_rgba(self, x: int, y: int, w: int, h: int) -> np.ndarray:
+        out = np.zeros((h, w, 4), np.uint8)
+        areas = self.doc.project.influence.areas
+        if not self.state.overlap or not areas:
+            return out
+        masks = np.stack([a.mask[y:y + h, x:x + w] for a in areas])
+        over, none = mask_ops.overlap(masks, self.overlap_activations(),
+                                      self.coverage()[y:y + h, x:x + w])
+        for where, (r, g, b, a) in ((none, NONE_RGBA), (over, OVER_RGBA)):
+            out[where] = (r * a // 255, g * a // 255, b * a // 255, a)
+        return out
+
+    def overlap_activations(self) -> np.ndarray:
+        """The current activations, or every area at 1 while the face is neutral (so a conflict
+        shows before any pose is set)."""
+        values = self.doc.activations()
+        if not values.any():
+            values = np.array([1.0 if a.visible else 0.0
+                               for a in self.doc.project.influence.areas], np.float32)
+        return values
+
+    def coverage(self) -> np.ndarray:
+        """Where the UV layout has faces, at mask size (computed once, at ≤ 1024², enlarged)."""
+        w, h = self.mask_size()
+        if self._coverage is None or self._coverage.shape != (h, w):
+            size = min(w, 1024)
+            cov = mask_ops.uv_coverage(self.doc.project.mesh, size)
+            if size != w:
+                cov = mask_ops.resample(cov.astype(np.float32), (w, h)) > 0.5
+            self._coverage = cov
+        return self._coverage
+
+    def refresh_masks(self) -> None:
+        w, h = self.mask_size()
+        if self.masks.buffer.shape[:2] != (h, w):
+            self.masks.resize(w, h)
+            self.overlap_item.resize(w, h)
+            self._load_background()
+            self._load_wire()
+        self.masks.write(0, 0, self._rgba(0, 0, w, h))
+        self.overlap_item.write(0, 0, self._overlap_rgba(0, 0, w, h))
+        self.overlap_item.setVisible(self.state.overlap)
+        self._update_hint()
+
+    def _region_changed(self, layer: int, x: int, y: int, w: int, h: int) -> None:
+        """A dab: redraw just that rectangle."""
+        if self.masks.buffer.shape[:2] != self.mask_size()[::-1]:
+            self.refresh_masks()
+            return
+        self.masks.write(x, y, self._rgba(x, y, w, h))
+        if self.state.overlap:
+            self.overlap_item.write(x, y, self._overlap_rgba(x, y, w, h))
+
+    def _activations_changed(self) -> None:
+        if self.state.overlap:
+            w, h = self.mask_size()
+            self.overlap_item.write(0, 0, self._overlap_rgba(0, 0, w, h))
+
+    def _toggle_all(self, _checked: bool) -> None:
+        self.refresh_masks()
+
+    def _state_changed(self) -> None:
+        if self.overlap_item.isVisible() != self.state.overlap:
+            self.refresh_masks()
+        self._resize_cursor()
+        self._update_hint()
+
+    def _update_hint(self) -> None:
+        areas = self.doc.project.influence.areas
+        a = self.state.active
+        brush = self.state.brush
+        if not (0 <= a < len(areas)):
+            text = "No area selected: add or select one in the Areas panel."
+        else:
+            tool = "Eraser" if brush.erase else "Brush"
+            text = f"{tool} on “{areas[a].name}” · radius {brush.radius:.0f} px · "
+            if self.state.mirror in MIRROR_MODES and self.state.mirror != "off":
+                text += f"mirror {MIRROR_MODES[self.state.mirror][0].lower()} · "
+            text += "wheel zoom, middle/Space-drag pan, [ ] size, X eraser, F fit"
+            if self.state.overlap:
+                text += " · red: Σ mask·activation > 1, dark: no area"
+        self.hint.setText(text)
+
+    # --- brush cursor --------------------------------------------------------------------------
+    def update_cursor(self, p: QPointF) -> None:
+        self._cursor_pos = p
+        self.cursor_item.show()
+        self.inner_cursor.show()
+        self._resize_cursor()
+
+    def _resize_cursor(self) -> None:
+        p = getattr(self, "_cursor_pos", None)
+        if p is None:
+            return
+        r = self.state.brush.radius
+        self.cursor_item.setRect(QRectF(p.x() - r, p.y() - r, 2 * r, 2 * r))
+        ri = r * min(max(self.state.brush.hardness, 0.0), 1.0)
+        self.inner_cursor.setRect(QRectF(p.x() - ri, p.y() - ri, 2 * ri, 2 * ri))
+        self._place_mirror_cursor(p, r)
+
+    def _place_mirror_cursor(self, p: QPointF, r: float) -> None:
+        """The mirror image of the brush (its main one), dashed; hidden with the mirror off or
+        when the brush is off every UV chart."""
+        mirror = self.state.stroke_mirror(self.doc.project.mesh)
+        owner, points, scale = (mirror(np.array([[p.x(), p.y()]]), self.mask_size()[::-1], r)
+                                if mirror is not None and self.cursor_item.isVisible()
+                                else ((), None, None))
+        if not len(owner):
+            self.mirror_cursor.hide()
+            return
+        (x, y), rm = points[0], r * float(scale[0])
+        self.mirror_cursor.setRect(QRectF(x - rm, y - rm, 2 * rm, 2 * rm))
+        self.mirror_cursor.show()

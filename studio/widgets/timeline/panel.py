@@ -1,0 +1,650 @@
+"""The timeline dock: key-pose tracks, a playhead, transport controls and a curve view.
+
+Each track row is a small graph of its pose's weight over time (bottom of the row = 0, top = 1),
+so where a key sits says both when and how strongly: click in a row to add a key at that time and
+height, drag a key sideways to retime it or up and down to change its weight (one undo step per
+drag), drag anywhere else to scrub. The curve view below shows the pose weights and the
+technique-1 area activations they produce — what actually drives the wrinkles.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pyqtgraph as pg
+from PySide6.QtCore import QPointF, Qt
+from PySide6.QtGui import QAction, QColor, QIcon, QKeySequence
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QSpinBox,
+    QStyle,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from studio.core.animation.timeline import INTERPOLATIONS
+from studio.core.project.model import Project
+from studio.widgets.commands import new_gesture
+from studio.widgets.document import Document
+from studio.widgets.timeline.edits import ClipKey, KeyRef, TimelineEdits, TimelineState
+from studio.widgets.timeline.playback import Player
+from studio.widgets.timeline.pose_panel import pose_label
+
+ROW_PAD = 0.12  # empty part of a track row above and below its 0..1 band (row units)
+ROW_BAND = 1.0 - 2 * ROW_PAD
+VALUE_SNAP = 0.05
+HIT_PIXELS = 8.0
+INTERPOLATION_LABELS = {"linear": "Linear", "cosine": "Cosine (Parke)",
+                        "smooth": "Smooth (ease in/out)", "constant": "Constant (hold)"}
+
+
+def pose_colour(index: int, count: int) -> QColor:
+    return pg.intColor(index, hues=max(count, 1), values=1, maxValue=230, minValue=230,
+                       sat=170)
+
+
+def activation_curves(project: Project, frames: np.ndarray, base: dict[str, float]
+                      ) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """Pose weights and technique-1 activations at many frames at once.
+
+    Poses without keys keep their ``base`` weight (as ``Document.show_frame`` does); the
+    activations follow ``InfluenceSetup.activations`` — own value plus Σ gain·weight, hidden
+    areas at 0, clamped — as one matrix product instead of a call per frame.
+    """
+    timeline, influence = project.timeline, project.influence
+    animated = {t.pose: t.values_at(frames) for t in timeline.tracks if t.keys}
+    names = [p.name for p in project.poses]
+    weights = np.stack([animated.get(n, np.full(len(frames), base.get(n, 0.0))) for n in names],
+                       axis=1) if names else np.zeros((len(frames), 0))
+    areas = {a.name: i for i, a in enumerate(influence.areas)}
+    gains = np.zeros((len(names), len(areas)))
+    for p, pose in enumerate(names):
+        for area, gain in influence.links.get(pose, {}).items():
+            if area in areas:
+                gains[p, areas[area]] += gain
+    own = np.array([a.activation for a in influence.areas])
+    visible = np.array([a.visible for a in influence.areas], dtype=bool)
+    act = np.clip((own + weights @ gains) * visible, 0.0, 1.0)
+    return animated, act
+
+
+class TrackViewBox(pg.ViewBox):
+    """Left button edits keys and scrubs; the wheel zooms time; middle/right drag pans."""
+
+    def __init__(self, panel: TimelinePanel) -> None:
+        super().__init__(enableMenu=False)
+        self.panel = panel
+        self.setMouseEnabled(x=True, y=False)
+
+    def mouseClickEvent(self, ev) -> None:
+        if ev.button() != Qt.MouseButton.LeftButton:
+            super().mouseClickEvent(ev)
+            return
+        ev.accept()
+        self.panel.track_clicked(self.mapSceneToView(ev.scenePos()), ev.modifiers())
+
+    def mouseDragEvent(self, ev, axis=None) -> None:
+        if ev.button() != Qt.MouseButton.LeftButton:
+            super().mouseDragEvent(ev, axis)
+            return
+        ev.accept()
+        if ev.isStart():
+            self.panel.drag_started(self.mapSceneToView(ev.buttonDownScenePos()))
+        self.panel.drag_moved(self.mapSceneToView(ev.scenePos()))
+        if ev.isFinish():
+            self.panel.drag_finished()
+
+
+class TimelinePanel(QWidget):
+    def __init__(self, doc: Document, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = doc
+        self.edits = TimelineEdits(doc)
+        self.player = Player(doc, self)
+        self.selection: set[KeyRef] = set()
+        self.clipboard: list[ClipKey] = []
+        self.current_pose: str | None = None  # the row last clicked: where K keys
+        self._drag: dict | None = None
+        self._updating = False
+        self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
+        self._build()
+        self._shortcuts()
+        doc.timelineChanged.connect(self.refresh)
+        doc.projectReplaced.connect(self._project_replaced)
+        doc.playheadChanged.connect(self._show_playhead)
+        doc.activationsChanged.connect(self._refresh_curves)
+        doc.areasChanged.connect(self._refresh_curves)
+        doc.posesChanged.connect(self._project_replaced)
+        self.player.playingChanged.connect(self._show_playing)
+        self._project_replaced()
+
+    # --- layout --------------------------------------------------------------------------------
+    def _build(self) -> None:
+        controls = QVBoxLayout()
+        controls.setSpacing(4)
+        transport = QHBoxLayout()
+        transport.setSpacing(2)
+        self.buttons: dict[str, QToolButton] = {}
+        for name, text, tip, slot in (
+                ("start", "SP_MediaSkipBackward", "Jump to start (Home, Shift+Left)",
+                 self.jump_start),
+                ("back", "SP_MediaSeekBackward", "Previous frame (Left)", lambda: self.step(-1)),
+                ("play", "SP_MediaPlay", "Play / pause (Space)", self.player.toggle),
+                ("forward", "SP_MediaSeekForward", "Next frame (Right)", lambda: self.step(1)),
+                ("end", "SP_MediaSkipForward", "Jump to end (End, Shift+Right)", self.jump_end)):
+            button = QToolButton()
+            button.setIcon(self._icon(text))
+            button.setToolTip(tip)
+            button.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+            button.clicked.connect(slot)
+            button.setMinimumWidth(30)
+            transport.addWidget(button)
+            self.buttons[name] = button
+        self.loop = QCheckBox("Loop")
+        self.loop.setChecked(True)
+        self.loop.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        self.loop.toggled.connect(lambda on: setattr(self.player, "loop", on))
+        transport.addWidget(self.loop)
+        transport.addStretch(1)
+        controls.addLayout(transport)
+        self.frame_label = QLabel()
+        self.frame_label.setStyleSheet("font-weight: bold;")
+        controls.addWidget(self.frame_label)
+
+        form = QFormLayout()
+        form.setContentsMargins(0, 0, 0, 0)
+        self.fps = QDoubleSpinBox()
+        self.fps.setRange(1.0, 240.0)
+        self.fps.setDecimals(2)
+        self.fps.setSuffix(" fps")
+        self.start = QSpinBox()
+        self.end = QSpinBox()
+        for spin in (self.start, self.end):
+            spin.setRange(-100000, 100000)
+        range_row = QHBoxLayout()
+        range_row.addWidget(self.start)
+        range_row.addWidget(QLabel("to"))
+        range_row.addWidget(self.end)
+        for spin in (self.fps, self.start, self.end):
+            spin.setKeyboardTracking(False)  # one edit when typing ends, not one per digit
+        self.fps.valueChanged.connect(lambda v: self._set_range(fps=v))
+        self.start.valueChanged.connect(lambda v: self._set_range(start=v))
+        self.end.valueChanged.connect(lambda v: self._set_range(end=v))
+        form.addRow("Rate", self.fps)
+        form.addRow("Frames", range_row)
+        self.interpolation = QComboBox()
+        for mode in INTERPOLATIONS:
+            self.interpolation.addItem(INTERPOLATION_LABELS[mode], mode)
+        self.interpolation.setToolTip("How the selected keys go on to the next key")
+        self.interpolation.activated.connect(self._interpolation_chosen)
+        self.key_value = QDoubleSpinBox()
+        self.key_value.setRange(0.0, 1.0)
+        self.key_value.setSingleStep(VALUE_SNAP)
+        self.key_value.setKeyboardTracking(False)
+        self.key_value.setToolTip("Weight of the selected keys (0 = neutral, 1 = the full pose)")
+        self.key_value.valueChanged.connect(self._value_chosen)
+        form.addRow("Key", self.interpolation)
+        form.addRow("Weight", self.key_value)
+        controls.addLayout(form)
+        self.sequence = QPushButton("Sequence all poses")
+        self.sequence.setToolTip("Replace the animation by neutral → pose → neutral for each "
+                                 "key pose in turn (0.5 s up, 0.5 s hold, 0.5 s down)")
+        self.sequence.clicked.connect(lambda: self.edits.sequence_all_poses())
+        controls.addWidget(self.sequence)
+        self.curve_mode = QComboBox()
+        for text, mode in (("Curves: pose weights", "weights"),
+                           ("Curves: area activations (t1)", "activations"),
+                           ("Curves: both", "both")):
+            self.curve_mode.addItem(text, mode)
+        self.curve_mode.setCurrentIndex(2)
+        self.curve_mode.currentIndexChanged.connect(self._refresh_curves)
+        controls.addWidget(self.curve_mode)
+        self.hint = QLabel("Click a row: add a key · drag: move it\nDel · Ctrl+C/V · K: key "
+                           "the pose slider")
+        self.hint.setStyleSheet("color: gray; font-size: 8pt;")
+        controls.addWidget(self.hint)
+        controls.addStretch(1)
+        side = QWidget()
+        side.setLayout(controls)
+        side.setFixedWidth(250)
+
+        # one graphics layout: the tracks above the curves, sharing the time axis; the legend
+        # sits in its own column so that it never hides a curve
+        self.view = pg.GraphicsLayoutWidget()
+        self.view.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
+        self.view.ci.setSpacing(2)
+        self.track_box = TrackViewBox(self)
+        self.tracks = self.view.addPlot(row=0, col=0, viewBox=self.track_box)
+        self.tracks.hideButtons()
+        self.tracks.showGrid(x=True, y=False, alpha=0.15)
+        self.tracks.getAxis("left").setWidth(110)
+        self.tracks.setMenuEnabled(False)
+        self.curves = self.view.addPlot(row=1, col=0)
+        self.curves.hideButtons()
+        self.curves.showGrid(x=True, y=True, alpha=0.15)
+        self.curves.getAxis("left").setWidth(110)
+        self.curves.setLabel("left", "weight / activation")
+        self.curves.setYRange(-0.05, 1.08, padding=0)
+        self.curves.setMouseEnabled(x=True, y=False)
+        self.curves.setMenuEnabled(False)
+        self.curves.setXLink(self.tracks)
+        self.legend = pg.LegendItem(colCount=2, labelTextSize="7pt", verSpacing=-6)
+        self.view.addItem(self.legend, row=1, col=1)
+        self.view.ci.layout.setColumnFixedWidth(1, 230)
+        self.view.ci.layout.setRowStretchFactor(0, 3)
+        self.view.ci.layout.setRowStretchFactor(1, 2)
+        self.view.scene().sigMouseClicked.connect(self._curve_clicked)
+
+        self.range_region = pg.LinearRegionItem(movable=False, brush=pg.mkBrush(255, 255, 255, 12),
+                                                pen=pg.mkPen(120, 120, 120, 160))
+        self.range_region.setZValue(-20)
+        self.tracks.addItem(self.range_region)
+        self.playhead = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(255, 200, 40, width=2),
+                                        hoverPen=pg.mkPen(255, 230, 120, width=3),
+                                        label="{value:.0f}",
+                                        labelOpts={"position": 0.96, "color": (255, 210, 60),
+                                                   "fill": (40, 36, 20, 200)})
+        self.playhead.setZValue(30)
+        self.playhead.sigPositionChanged.connect(self._playhead_dragged)
+        self.tracks.addItem(self.playhead)
+        self.curve_playhead = pg.InfiniteLine(angle=90, pen=pg.mkPen(255, 200, 40, width=1))
+        self.curves.addItem(self.curve_playhead)
+        self.keys_item = pg.ScatterPlotItem(symbol="d", size=13, pxMode=True)
+        self.keys_item.setZValue(20)
+        self.tracks.addItem(self.keys_item)
+        self.track_curves: dict[str, pg.PlotDataItem] = {}
+        self._track_pool: list[pg.PlotDataItem] = []
+        self._line_pool: list[pg.InfiniteLine] = []
+        self._curve_pool: list[pg.PlotDataItem] = []
+        self._legend_labels: list = []
+        self._retired: list = []
+
+        layout = QHBoxLayout(self)
+        layout.setContentsMargins(4, 2, 4, 2)
+        layout.addWidget(side)
+        layout.addWidget(self.view, 1)
+
+    def _icon(self, name: str) -> QIcon:
+        return self.style().standardIcon(getattr(QStyle.StandardPixmap, name))
+
+    def _shortcuts(self) -> None:
+        """Keys that work while the timeline (or a child of it) has the focus."""
+        def add(keys: list[str], slot: Callable[[], None], text: str) -> None:
+            action = QAction(text, self)
+            action.setShortcuts([QKeySequence(k) for k in keys])
+            action.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
+            action.triggered.connect(slot)
+            self.addAction(action)
+
+        add(["Space"], self.player.toggle, "Play / pause")
+        add(["Left"], lambda: self.step(-1), "Previous frame")
+        add(["Right"], lambda: self.step(1), "Next frame")
+        add(["Home", "Shift+Left"], self.jump_start, "Jump to start")
+        add(["End", "Shift+Right"], self.jump_end, "Jump to end")
+        add(["Delete", "Backspace"], self.delete_selected, "Delete keys")
+        add(["Ctrl+C"], self.copy_selected, "Copy keys")
+        add(["Ctrl+V"], self.paste, "Paste keys at the playhead")
+        add(["K"], self.key_current_pose, "Key the pose weight at the playhead")
+        add(["Escape"], lambda: self._select(set()), "Deselect keys")
+
+    # --- geometry of the rows ------------------------------------------------------------------
+    @property
+    def poses(self) -> list[str]:
+        return [p.name for p in self.doc.project.poses]
+
+    def row_of(self, pose: str) -> int:
+        """Row index from the bottom (the first pose is the top row)."""
+        return len(self.poses) - 1 - self.poses.index(pose)
+
+    def key_y(self, pose: str, value: float) -> float:
+        return self.row_of(pose) + ROW_PAD + ROW_BAND * value
+
+    def pose_at(self, y: float) -> str | None:
+        row = int(np.floor(y))
+        poses = self.poses
+        if not 0 <= row < len(poses):
+            return None
+        return poses[len(poses) - 1 - row]
+
+    def value_at_y(self, y: float) -> float:
+        """The weight a click at height ``y`` means: 0.05 steps, with 0 and 1 easy to hit."""
+        value = (y - np.floor(y) - ROW_PAD) / ROW_BAND
+        value = 0.0 if value < 1.5 * VALUE_SNAP else 1.0 if value > 1 - 1.5 * VALUE_SNAP else value
+        return float(np.clip(np.round(value / VALUE_SNAP) * VALUE_SNAP, 0.0, 1.0))
+
+    def key_scene_pos(self, pose: str, frame: float, value: float) -> QPointF:
+        """Where a key is drawn, in scene coordinates (for hit tests and for tests)."""
+        return self.track_box.mapViewToScene(QPointF(frame, self.key_y(pose, value)))
+
+    def key_widget_pos(self, pose: str, frame: float, value: float):
+        """Where a key is drawn, in the track view's widget pixels."""
+        return self.view.mapFromScene(self.key_scene_pos(pose, frame, value))
+
+    def key_at(self, pos: QPointF) -> KeyRef | None:
+        """The key under a point (view coordinates), within a few pixels."""
+        target = self.track_box.mapViewToScene(pos)
+        best, best_d = None, HIT_PIXELS
+        state = TimelineState.of(self.doc.project.timeline)
+        for pose, keys in state.tracks:
+            if pose not in self.poses:
+                continue
+            for i, (frame, value, _) in enumerate(keys):
+                p = self.key_scene_pos(pose, frame, value)
+                d = float(np.hypot(p.x() - target.x(), p.y() - target.y()))
+                if d <= best_d:
+                    best, best_d = (pose, i), d
+        return best
+
+    # --- refresh -------------------------------------------------------------------------------
+    def _pooled(self, pool: list, count: int, make: Callable[[], object]) -> list:
+        """``count`` graphics items from ``pool``, made as needed; the rest hidden.
+
+        Why a pool: removing pyqtgraph items from a scene while Qt is delivering a mouse event
+        to it can crash PySide; reusing and hiding items never removes any."""
+        while len(pool) < count:
+            pool.append(make())
+        for i, item in enumerate(pool):
+            item.setVisible(i < count)
+        return pool[:count]
+
+    def _project_replaced(self) -> None:
+        self.selection = set()
+        self.current_pose = self.poses[0] if self.poses else None
+        poses = self.poses
+
+        def make_curve() -> pg.PlotDataItem:
+            curve = pg.PlotDataItem()
+            self.tracks.addItem(curve)
+            return curve
+
+        def make_line() -> pg.InfiniteLine:
+            line = pg.InfiniteLine(angle=0, pen=pg.mkPen(90, 90, 96, 150))
+            self.tracks.addItem(line)
+            return line
+
+        curves = self._pooled(self._track_pool, len(poses), make_curve)
+        lines = self._pooled(self._line_pool, len(poses), make_line)
+        self.track_curves = {}
+        for i, (pose, curve, line) in enumerate(zip(poses, curves, lines, strict=True)):
+            colour = pose_colour(i, len(poses))
+            fill = QColor(colour)
+            fill.setAlpha(55)
+            row = self.row_of(pose)
+            curve.setData([], [])
+            curve.setPen(pg.mkPen(colour, width=1.5))
+            curve.setBrush(pg.mkBrush(fill))
+            curve.setFillLevel(row + ROW_PAD)
+            self.track_curves[pose] = curve
+            line.setValue(row)
+        # a readable row per pose however small the dock: the curves give way first
+        self.view.ci.layout.setRowMinimumHeight(0, 20 * max(len(poses), 1) + 26)
+        axis = self.tracks.getAxis("left")
+        axis.setTicks([[(self.row_of(p) + 0.5, pose_label(p)) for p in poses], []])
+        self.tracks.setYRange(0, max(len(poses), 1), padding=0.02)
+        self.refresh()
+        self.frame_all_time()
+
+    def frame_all_time(self) -> None:
+        timeline = self.doc.project.timeline
+        span = timeline.end - timeline.start
+        self.tracks.setXRange(timeline.start - 0.02 * span,
+                                            timeline.end + 0.02 * span, padding=0)
+
+    def refresh(self) -> None:
+        """Redraw keys, curves and controls from the timeline (after any edit or undo)."""
+        timeline = self.doc.project.timeline
+        self._updating = True
+        try:
+            self.fps.setValue(timeline.fps)
+            self.start.setValue(timeline.start)
+            self.end.setValue(timeline.end)
+        finally:
+            self._updating = False
+        self.range_region.setRegion((timeline.start, timeline.end))
+        state = TimelineState.of(timeline)
+        self.selection = {(p, i) for p, i in self.selection if i < len(state.keys(p))}
+        frames = self._sample_frames()
+        poses = self.poses
+        spots = []
+        for pose, keys in state.tracks:
+            if pose not in self.track_curves:
+                continue
+            colour = pose_colour(poses.index(pose), len(poses))
+            track = timeline.track(pose)
+            values = track.values_at(frames) if keys else np.zeros_like(frames)
+            self.track_curves[pose].setData(frames, self.row_of(pose) + ROW_PAD
+                                            + ROW_BAND * values)
+            for i, (frame, value, mode) in enumerate(keys):
+                selected = (pose, i) in self.selection
+                spots.append({"pos": (frame, self.key_y(pose, value)), "data": (pose, i),
+                              "brush": pg.mkBrush("w" if selected else colour),
+                              "pen": pg.mkPen((255, 200, 40) if selected else (20, 20, 20),
+                                              width=2 if selected else 1),
+                              "symbol": "s" if mode == "constant" else "d",
+                              "size": 15 if selected else 12})
+        for pose in self.track_curves:
+            if not state.keys(pose):
+                self.track_curves[pose].setData([], [])
+        self.keys_item.setData(spots)
+        self._show_selection()
+        self._refresh_curves()
+        self._show_playhead()
+
+    def _sample_frames(self) -> np.ndarray:
+        timeline = self.doc.project.timeline
+        frames = [k.frame for t in timeline.tracks for k in t.keys]
+        lo = min([timeline.start, *frames]) - 10
+        hi = max([timeline.end, *frames]) + 10
+        return np.linspace(lo, hi, int(min((hi - lo) * 4, 4000)) + 2)
+
+    def _refresh_curves(self) -> None:
+        mode = self.curve_mode.currentData()
+        frames = self._sample_frames()
+        project = self.doc.project
+        animated, act = activation_curves(project, frames, self.doc.pose_weights)
+        poses = self.poses
+        shown: list[tuple[np.ndarray, object, str]] = []  # values, pen, legend label
+        if mode in ("weights", "both"):
+            for pose, values in animated.items():
+                if pose in poses:
+                    colour = pose_colour(poses.index(pose), len(poses))
+                    shown.append((values, pg.mkPen(colour, width=2), pose_label(pose)))
+        if mode in ("activations", "both"):
+            style = Qt.PenStyle.DashLine if mode == "both" else Qt.PenStyle.SolidLine
+            for i, area in enumerate(project.influence.areas):
+                if act[:, i].any():
+                    shown.append((act[:, i], pg.mkPen(area.colour, width=1.5, style=style),
+                                  area.name))
+
+        def make() -> pg.PlotDataItem:
+            curve = pg.PlotDataItem()
+            self.curves.addItem(curve)
+            return curve
+
+        curves = self._pooled(self._curve_pool, len(shown), make)
+        for curve, (values, pen, _) in zip(curves, shown, strict=True):
+            curve.setData(frames, values)
+            curve.setPen(pen)
+        labels = [(label, pen.color().name(), pen.style()) for _, pen, label in shown]
+        if labels != self._legend_labels:  # rebuilt only when what is shown changes
+            self._legend_labels = labels
+            self._retired.extend(self.legend.items)  # keep Python wrappers alive (see _pooled)
+            self.legend.clear()
+            for curve, (_, _, label) in zip(curves, shown, strict=True):
+                self.legend.addItem(curve, label)
+
+    def _show_selection(self) -> None:
+        state = TimelineState.of(self.doc.project.timeline)
+        keys = [state.keys(p)[i] for p, i in sorted(self.selection)]
+        enabled = bool(keys)
+        self.interpolation.setEnabled(enabled)
+        self.key_value.setEnabled(enabled)
+        self._updating = True
+        try:
+            if not keys:
+                self.interpolation.setCurrentIndex(-1)
+            else:
+                modes = {k[2] for k in keys}
+                self.interpolation.setCurrentIndex(
+                    INTERPOLATIONS.index(modes.pop()) if len(modes) == 1 else -1)
+                self.key_value.setValue(keys[0][1])
+        finally:
+            self._updating = False
+
+    def _show_playhead(self) -> None:
+        frame = self.doc.frame
+        timeline = self.doc.project.timeline
+        self._updating = True
+        try:
+            self.playhead.setValue(frame)
+            self.curve_playhead.setValue(frame)
+        finally:
+            self._updating = False
+        seconds = (frame - timeline.start) / timeline.fps
+        self.frame_label.setText(f"Frame {frame:.0f}   ·   {seconds:.2f} s")
+
+    def _show_playing(self, playing: bool) -> None:
+        self.buttons["play"].setIcon(self._icon("SP_MediaPause" if playing else "SP_MediaPlay"))
+
+    # --- transport -----------------------------------------------------------------------------
+    def step(self, frames: int) -> None:
+        self.player.stop()
+        timeline = self.doc.project.timeline
+        frame = min(max(round(self.doc.frame) + frames, timeline.start), timeline.end)
+        self.doc.show_frame(frame)
+
+    def jump_start(self) -> None:
+        self.player.stop()
+        self.doc.show_frame(self.doc.project.timeline.start)
+
+    def jump_end(self) -> None:
+        self.player.stop()
+        self.doc.show_frame(self.doc.project.timeline.end)
+
+    def _playhead_dragged(self) -> None:
+        if self._updating:
+            return
+        frame = round(self.playhead.value())
+        if frame != self.doc.frame:
+            self.doc.show_frame(frame)
+        else:
+            self._show_playhead()  # snap the line to the whole frame
+
+    def _curve_clicked(self, ev) -> None:
+        vb = self.curves.getViewBox()
+        if (ev.button() == Qt.MouseButton.LeftButton
+                and vb.sceneBoundingRect().contains(ev.scenePos())):
+            pos = vb.mapSceneToView(ev.scenePos())
+            self.doc.show_frame(round(pos.x()))
+
+    # --- key editing ---------------------------------------------------------------------------
+    def _select(self, refs: set[KeyRef]) -> None:
+        self.selection = set(refs)
+        self.refresh()
+
+    def track_clicked(self, pos: QPointF, modifiers) -> None:
+        """Click on a key: select it (Ctrl/Shift: add to the selection). Elsewhere in a row: a
+        new key at that frame, its weight set by the height in the row."""
+        self.view.setFocus()
+        hit = self.key_at(pos)
+        if hit is not None:
+            self.current_pose = hit[0]
+            extend = modifiers & (Qt.KeyboardModifier.ControlModifier
+                                  | Qt.KeyboardModifier.ShiftModifier)
+            if extend:
+                self._select(self.selection ^ {hit})
+            else:
+                self._select({hit})
+            return
+        pose = self.pose_at(pos.y())
+        if pose is None:
+            self._select(set())
+            return
+        self.current_pose = pose
+        ref = self.edits.add_key(pose, float(round(pos.x())), self.value_at_y(pos.y()))
+        self._select({ref})
+
+    def drag_started(self, pos: QPointF) -> None:
+        self.view.setFocus()
+        hit = self.key_at(pos)
+        if hit is None:
+            self.player.stop()
+            self._drag = {"scrub": True}
+            return
+        if hit not in self.selection:
+            self._select({hit})
+        self.current_pose = hit[0]
+        self._drag = {"scrub": False, "origin": pos, "base": self.edits.state(),
+                      "refs": sorted(self.selection), "gesture": new_gesture(), "axis": None}
+
+    def drag_moved(self, pos: QPointF) -> None:
+        drag = self._drag
+        if drag is None:
+            return
+        if drag["scrub"]:
+            timeline = self.doc.project.timeline
+            frame = min(max(round(pos.x()), timeline.start), timeline.end)
+            if frame != self.doc.frame:
+                self.doc.show_frame(frame)
+            return
+        origin = drag["origin"]
+        dframe = float(round(pos.x() - origin.x()))
+        dvalue = float(np.round((pos.y() - origin.y()) / ROW_BAND / VALUE_SNAP) * VALUE_SNAP)
+        if drag["axis"] is None:  # the first clear movement picks time or weight
+            a, b = self.track_box.mapViewToScene(origin), self.track_box.mapViewToScene(pos)
+            dx, dy = abs(b.x() - a.x()), abs(b.y() - a.y())
+            if max(dx, dy) < 4:
+                return
+            drag["axis"] = "time" if dx >= dy else "value"
+        if drag["axis"] == "time":
+            dvalue = 0.0
+        else:
+            dframe = 0.0
+        self.selection = set(self.edits.move_keys(drag["base"], drag["refs"], dframe, dvalue,
+                                                  drag["gesture"]))
+        self.refresh()
+
+    def drag_finished(self) -> None:
+        self._drag = None
+
+    def delete_selected(self) -> None:
+        if self.selection:
+            refs, self.selection = self.selection, set()
+            self.edits.delete_keys(refs)
+
+    def copy_selected(self) -> None:
+        self.clipboard = self.edits.copy_keys(sorted(self.selection))
+
+    def paste(self) -> None:
+        if self.clipboard:
+            self._select(set(self.edits.paste_keys(self.clipboard, round(self.doc.frame))))
+
+    def key_current_pose(self) -> None:
+        """Key the current row's pose at the playhead with its present weight (the slider)."""
+        pose = self.current_pose
+        if pose is None:
+            return
+        value = self.doc.pose_weights.get(pose, 0.0)
+        self._select({self.edits.add_key(pose, float(round(self.doc.frame)), value)})
+
+    def _interpolation_chosen(self, index: int) -> None:
+        if self.selection and index >= 0:
+            self.edits.set_interpolation(sorted(self.selection), INTERPOLATIONS[index])
+
+    def _value_chosen(self, value: float) -> None:
+        if not self._updating and self.selection:
+            self.edits.set_value(sorted(self.selection), value)
+
+    def _set_range(self, **changes) -> None:
+        if self._updating:
+            return
+        if not self.edits.set_range(**changes):
+            self.refresh()  # refused (end before start): show the timeline as it is

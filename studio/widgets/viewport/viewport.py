@@ -1,0 +1,328 @@
+"""The live 3D viewport: the foundation's renderer inside a QOpenGLWidget.
+
+Document signals only set dirty flags and schedule a repaint; ``paintGL`` applies them, so GL work
+happens in the widget's context and each change re-uploads only what it touched. Navigation
+follows Blender: middle-drag orbits, Shift+middle pans, Ctrl+middle and the wheel zoom; on a
+laptop Alt+left orbits and Alt+Shift+left pans. F frames the face; numpad 1/3/7 give front,
+side and top views.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+
+import moderngl
+from PySide6.QtCore import QPoint, Qt, QTimer, Signal
+from PySide6.QtGui import QMouseEvent, QWheelEvent
+from PySide6.QtOpenGLWidgets import QOpenGLWidget
+from PySide6.QtWidgets import QLabel, QWidget
+
+from studio.core.files.errors import RenderError
+from studio.core.wrinkles.techniques import SPLIT, TECHNIQUES
+from studio.render.renderer import FaceRenderer
+from studio.render.scene import ProjectScene
+from studio.render.settings import render_settings
+from studio.widgets.document import Document
+
+ANTI_ALIASING = (0, 2, 4, 8)  # samples per pixel offered (View ▸ Anti-Aliasing); 0: off
+DEFAULT_SAMPLES = 4
+
+
+def split_columns(width: int) -> list[tuple[int, int]]:
+    """x and width of each split-view pane."""
+    edges = [round(width * i / len(SPLIT)) for i in range(len(SPLIT) + 1)]
+    return [(a, b - a) for a, b in itertools.pairwise(edges)]
+
+
+def attach_to_current_context() -> moderngl.Context:
+    """A fresh moderngl context on the one Qt made current, whether Qt uses EGL or GLX.
+
+    (``moderngl.create_context`` detects through GLX only once a default context exists, which
+    fails for a second viewport when Qt runs on EGL; ``init_context`` always re-detects.)
+    """
+    try:
+        moderngl.init_context()
+        ctx = moderngl.get_context()
+    except Exception as exc:  # the GL loaders raise plain Exception
+        raise RenderError(f"OpenGL is not available, so the viewport cannot draw ({exc}). "
+                          "Update the graphics driver (or install Mesa).") from None
+    if ctx.version_code < 330:
+        raise RenderError(f"the viewport needs OpenGL 3.3; this driver offers "
+                          f"{ctx.version_code // 100}.{ctx.version_code % 100 // 10}")
+    return ctx
+
+
+class Viewport(QOpenGLWidget):
+    frameRendered = Signal(float)  # milliseconds the frame took, GPU finish included
+    glFailed = Signal(str)
+
+    def __init__(self, document: Document, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = document
+        self.ctx: moderngl.Context | None = None
+        self.scene: ProjectScene | None = None
+        self.tool = None  # an authoring tool: press/move/release(viewport, event) on left button
+        # drawn after the face each frame: objects with draw(ctx, fbo, camera, viewport_rect)
+        self.overlays: list = []
+        self._pending: set[str] = set()
+        self._mask_regions: list[tuple[int, int, int, int, int]] = []
+        self._drag: tuple[str, QPoint] | None = None
+        self.frames_rendered = 0
+        self._relief_refused = False  # the fallback from displace to parallax was announced
+        self.samples = DEFAULT_SAMPLES  # anti-aliasing: samples per pixel (0 or 1: off)
+        self._msaa: moderngl.Framebuffer | None = None  # drawn into, then resolved into Qt's
+        self._msaa_key: tuple[int, int, int] | None = None
+        self.setMinimumSize(320, 240)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setMouseTracking(True)
+        self._labels = [self._make_label() for _ in SPLIT]
+        self._connect()
+
+    def _make_label(self) -> QLabel:
+        label = QLabel(self)
+        label.setStyleSheet("color: #d8d8d8; background: rgba(20,20,24,150); padding: 3px 7px;"
+                            "border-radius: 3px;")
+        label.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents)
+        return label
+
+    def _connect(self) -> None:
+        d = self.doc
+        d.projectReplaced.connect(lambda: self._invalidate("project"))
+        d.posesChanged.connect(lambda: self._invalidate("project"))
+        d.texturesChanged.connect(lambda: self._invalidate("textures"))
+        d.poseWeightsChanged.connect(lambda: self._invalidate("pose"))
+        d.activationsChanged.connect(lambda: self._invalidate("activations"))
+        d.areasChanged.connect(lambda: self._invalidate("areas"))
+        d.masksChanged.connect(lambda: self._invalidate("masks"))
+        d.maskRegionChanged.connect(self._mask_region_changed)
+        d.wdvChanged.connect(lambda: self._invalidate("wdv"))
+        d.viewChanged.connect(self._update_labels)
+        d.viewChanged.connect(self.update)
+        d.cameraChanged.connect(self.update)
+
+    def _invalidate(self, what: str) -> None:
+        self._pending.add(what)
+        self.update()
+
+    def _mask_region_changed(self, layer: int, x: int, y: int, w: int, h: int) -> None:
+        """A brush dab: upload just that rectangle of that layer at the next frame."""
+        self._mask_regions.append((layer, x, y, w, h))
+        self.update()
+
+    # --- GL ------------------------------------------------------------------------------------
+    def initializeGL(self) -> None:
+        try:
+            self.ctx = attach_to_current_context()
+        except RenderError as exc:
+            self.ctx = None
+            self.glFailed.emit(str(exc))
+            return
+        self.renderer = FaceRenderer(self.ctx)
+        self._pending = {"project"}
+        self._update_labels()
+
+    def _apply_pending(self) -> None:
+        pending = self._pending
+        if "project" in pending:
+            self.scene = ProjectScene(self.renderer, self.doc.project)
+            pending = {"pose"}
+            self._mask_regions.clear()
+        scene = self.scene
+        if "textures" in pending:
+            scene.reload_textures()
+        if "masks" in pending:
+            scene.reload_masks()
+            self._mask_regions.clear()
+        masks = self.doc.project.influence.areas
+        for layer, x, y, w, h in self._mask_regions:
+            self.renderer.update_mask_region(layer, x, y, masks[layer].mask[y:y + h, x:x + w])
+        self._mask_regions.clear()
+        if "areas" in pending:
+            scene.reload_area_maps()
+        if "pose" in pending:
+            scene.set_pose_weights(self.doc.pose_weights)
+        elif pending & {"activations", "areas"}:
+            scene.reload_activations()
+        if "wdv" in pending:
+            scene.reload_wdv()
+        self._pending = set()
+
+    def paintGL(self) -> None:
+        if self.ctx is None:
+            return
+        start = time.perf_counter()
+        self._apply_pending()
+        # detected once per Qt framebuffer: moderngl 5 never frees a detected one (~400 B a frame)
+        key = (self.ctx, self.defaultFramebufferObject(), self.width(), self.height(),
+               self.devicePixelRatioF())
+        if getattr(self, "_fbo_key", None) != key:
+            self._fbo, self._fbo_key = self.ctx.detect_framebuffer(key[1]), key
+        ratio = self.devicePixelRatioF()
+        w, h = round(self.width() * ratio), round(self.height() * ratio)
+        fbo = self._draw_target(w, h)
+        view = self.doc.view
+        relief = self._relief(view.relief)
+        if view.split:
+            for (x, width), technique in zip(split_columns(w), SPLIT, strict=True):
+                self.renderer.render(fbo, self.doc.camera,
+                                     render_settings(view, technique=technique, relief=relief),
+                                     viewport=(x, 0, width, h))
+        else:
+            self.renderer.render(fbo, self.doc.camera, render_settings(view, relief=relief),
+                                 viewport=(0, 0, w, h))
+        for overlay in self.overlays:
+            overlay.draw(self.ctx, fbo, self.doc.camera, (0, 0, w, h))
+        if fbo is not self._fbo:
+            self.ctx.copy_framebuffer(self._fbo, fbo)  # resolve the samples into Qt's
+        self.ctx.finish()
+        self.frames_rendered += 1
+        self.frameRendered.emit((time.perf_counter() - start) * 1000.0)
+
+    @property
+    def max_samples(self) -> int:
+        """The most samples per pixel this driver can draw (0 before OpenGL is up)."""
+        return int(self.ctx.info.get("GL_MAX_SAMPLES") or 0) if self.ctx is not None else 0
+
+    def set_samples(self, samples: int) -> None:
+        """Anti-aliasing, samples per pixel (0 or 1: off); takes effect at the next frame. A
+        software renderer pays for each sample: 4× costs about 2.5 × the time of off."""
+        self.samples = samples
+        self.update()
+
+    def _draw_target(self, w: int, h: int) -> moderngl.Framebuffer:
+        """Where this frame is drawn: Qt's framebuffer, or a multisampled one of the same size
+        (made again only when the size or the sample count changes)."""
+        samples = min(self.samples, self.max_samples)
+        if samples < 2:
+            return self._fbo
+        key = (w, h, samples)
+        if self._msaa_key != key:
+            self._release_msaa()
+            colour = self.ctx.renderbuffer((w, h), 4, samples=samples)
+            depth = self.ctx.depth_renderbuffer((w, h), samples=samples)
+            self._msaa = self.ctx.framebuffer([colour], depth)
+            self._msaa_key = key
+        return self._msaa
+
+    def _release_msaa(self) -> None:
+        if self._msaa is not None:
+            for attachment in (*self._msaa.color_attachments, self._msaa.depth_attachment):
+                attachment.release()
+            self._msaa.release()
+        self._msaa, self._msaa_key = None, None
+
+    def _relief(self, relief: str) -> str:
+        """The relief to draw: without OpenGL 4.0, "displace" falls back to parallax, once
+        said (the shading panel then shows parallax)."""
+        if relief != "displace" or self.renderer.can_displace:
+            return relief
+        if not self._relief_refused:
+            self._relief_refused = True
+            v = self.ctx.version_code
+            message = (f"Displacement needs OpenGL 4.0 (tessellation shaders); this driver "
+                       f"offers {v // 100}.{v % 100 // 10}. Showing parallax relief instead.")
+            QTimer.singleShot(0, lambda: (self.doc.set_view(relief="parallax"),
+                                          self.glFailed.emit(message)))
+        return "parallax"
+
+    def resizeGL(self, w: int, h: int) -> None:
+        self._update_labels()
+
+    def _update_labels(self) -> None:
+        view = self.doc.view
+        if view.split:
+            for label, (x, _), technique in zip(self._labels, split_columns(self.width()), SPLIT,
+                                                strict=True):
+                label.setText(TECHNIQUES[technique].short)
+                label.adjustSize()
+                label.move(x + 8, 8)
+                label.show()
+        else:
+            first, *rest = self._labels
+            first.setText(TECHNIQUES[view.technique].short)
+            first.adjustSize()
+            first.move(8, 8)
+            first.show()
+            for label in rest:
+                label.hide()
+
+    # --- navigation ----------------------------------------------------------------------------
+    def _navigation_for(self, event: QMouseEvent) -> str | None:
+        mods = event.modifiers()
+        button = event.button()
+        shift = bool(mods & Qt.KeyboardModifier.ShiftModifier)
+        if button == Qt.MouseButton.MiddleButton:
+            if mods & Qt.KeyboardModifier.ControlModifier:
+                return "zoom"
+            return "pan" if shift else "orbit"
+        if button == Qt.MouseButton.LeftButton and mods & Qt.KeyboardModifier.AltModifier:
+            return "pan" if shift else "orbit"
+        return None
+
+    def mousePressEvent(self, event: QMouseEvent) -> None:
+        mode = self._navigation_for(event)
+        if mode:
+            self._drag = (mode, event.position().toPoint())
+            event.accept()
+        elif self.tool is not None and event.button() == Qt.MouseButton.LeftButton:
+            self.tool.press(self, event)
+        else:
+            super().mousePressEvent(event)
+
+    def mouseMoveEvent(self, event: QMouseEvent) -> None:
+        if self._drag is None:
+            if self.tool is not None:
+                self.tool.move(self, event)
+            return
+        mode, last = self._drag
+        pos = event.position().toPoint()
+        dx, dy = pos.x() - last.x(), pos.y() - last.y()
+        self._drag = (mode, pos)
+        cam = self.doc.camera
+        if mode == "orbit":
+            cam.orbit(-dx * 0.4, dy * 0.4)
+        elif mode == "pan":
+            cam.pan(-dx / max(self.height(), 1), dy / max(self.height(), 1))
+        else:
+            cam.zoom(1.01 ** dy)
+        self.doc.cameraChanged.emit()
+
+    def mouseReleaseEvent(self, event: QMouseEvent) -> None:
+        if self._drag is not None:
+            self._drag = None
+        elif self.tool is not None and event.button() == Qt.MouseButton.LeftButton:
+            self.tool.release(self, event)
+
+    def set_tool(self, tool) -> None:
+        """Give left-button gestures to an authoring tool (None: navigation only)."""
+        if self.tool is not None and hasattr(self.tool, "deactivate"):
+            self.tool.deactivate(self)
+        self.tool = tool
+        self.setCursor(Qt.CursorShape.CrossCursor if tool else Qt.CursorShape.ArrowCursor)
+        self.update()
+
+    def pixel_size(self) -> tuple[int, int]:
+        """The framebuffer size in device pixels (what the camera projects to)."""
+        ratio = self.devicePixelRatioF()
+        return round(self.width() * ratio), round(self.height() * ratio)
+
+    def wheelEvent(self, event: QWheelEvent) -> None:
+        steps = event.angleDelta().y() / 120.0
+        self.doc.camera.zoom(0.85 ** steps)
+        self.doc.cameraChanged.emit()
+
+    def keyPressEvent(self, event) -> None:
+        key = event.key()
+        keypad = bool(event.modifiers() & Qt.KeyboardModifier.KeypadModifier)
+        views = {Qt.Key.Key_1: (0.0, 0.0), Qt.Key.Key_3: (90.0, 0.0), Qt.Key.Key_7: (0.0, 89.0)}
+        if key in (Qt.Key.Key_F, Qt.Key.Key_Home) or (keypad and key == Qt.Key.Key_Period):
+            shift = event.modifiers() & Qt.KeyboardModifier.ShiftModifier
+            (self.doc.frame_all if shift and key == Qt.Key.Key_Home else self.doc.frame_face)()
+        elif keypad and key in views:
+            self.doc.camera.yaw, self.doc.camera.pitch = views[key]
+            if event.modifiers() & Qt.KeyboardModifier.ControlModifier and key == Qt.Key.Key_3:
+                self.doc.camera.yaw = -90.0
+            self.doc.cameraChanged.emit()
+        else:
+            super().keyPressEvent(event)

@@ -1,0 +1,524 @@
+"""The "Wrinkle vectors" dock: technique-2 areas, vertex selection and Create.
+
+A thin view: it shows the document's WDV areas and selection and turns every click into an undo
+command (studio/widgets/wdv/edits.py). Workflow: pick an area, its pose, select the vertices in
+the viewport (S), press Create, move the pose slider to preview.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QAction, QColor, QIcon, QKeySequence, QPixmap
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QButtonGroup,
+    QCheckBox,
+    QColorDialog,
+    QComboBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QGridLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QListWidget,
+    QListWidgetItem,
+    QPushButton,
+    QScrollArea,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
+
+from studio.core.animation.poses import NEUTRAL
+from studio.core.mesh import selection as sel
+from studio.widgets.slider_row import SliderRow
+from studio.widgets.wdv import edits
+from studio.widgets.wdv.tools import WdvTools
+
+
+def swatch(colour: tuple[int, int, int], size: int = 14) -> QIcon:
+    pixmap = QPixmap(size, size)
+    pixmap.fill(QColor(*colour))
+    return QIcon(pixmap)
+
+
+class WdvPanel(QScrollArea):
+    message = Signal(str)
+
+    def __init__(self, doc, tools: WdvTools, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = doc
+        self.tools = tools
+        self.setWidgetResizable(True)
+        self.setMinimumHeight(300)  # the area list and the main buttons stay in sight
+        self._updating = False
+        self._build()
+        doc.wdvChanged.connect(self._refresh)
+        doc.projectReplaced.connect(self._refresh)
+        doc.posesChanged.connect(self._refresh)
+        doc.texturesChanged.connect(self._refresh)
+        doc.selectionChanged.connect(self._show_selection)
+        doc.viewChanged.connect(self._show_view)
+        tools.currentAreaChanged.connect(self._refresh)
+        self._refresh()
+        self._show_selection()
+
+    # --- layout --------------------------------------------------------------------------------
+    def _build(self) -> None:
+        body = QWidget()
+        layout = QVBoxLayout(body)
+
+        areas = QGroupBox("Areas")
+        a_layout = QVBoxLayout(areas)
+        self.area_list = QListWidget()
+        self.area_list.setMaximumHeight(130)
+        self.area_list.setEditTriggers(QAbstractItemView.EditTrigger.DoubleClicked
+                                       | QAbstractItemView.EditTrigger.EditKeyPressed)
+        self.area_list.setToolTip("Double-click to rename; the check box mutes an area")
+        self.area_list.currentRowChanged.connect(self._row_changed)
+        self.area_list.itemChanged.connect(self._item_changed)
+        a_layout.addWidget(self.area_list)
+        row = QHBoxLayout()
+        self.add_button = self._button("Add", "Add an empty area", self._add)
+        self.delete_button = self._button("Delete", "Delete the current area", self._delete)
+        self.up_button = self._tool_button("▲", "Move the area up", lambda: self._move(-1))
+        self.down_button = self._tool_button("▼", "Move the area down", lambda: self._move(1))
+        self.solo_button = self._button("Solo", "Show only this area's wrinkles (again: all)",
+                                        self._solo)
+        for w in (self.add_button, self.delete_button, self.up_button, self.down_button,
+                  self.solo_button):
+            row.addWidget(w)
+        a_layout.addLayout(row)
+        form = QFormLayout()
+        self.pose_combo = QComboBox()
+        self.pose_combo.setToolTip("The key pose whose motion creates this area's wrinkles")
+        self.pose_combo.activated.connect(self._pose_chosen)
+        form.addRow("Pose", self.pose_combo)
+        self.cone = SliderRow("", 1.0, 90.0, decimals=1, suffix="°")
+        self.cone.label.hide()
+        self.cone.setToolTip("Cone half-angle θ: motion further than this from the direction "
+                             "shows no wrinkles")
+        self.cone.edited.connect(self._cone_edited)
+        form.addRow("Cone angle", self.cone)
+        painted = QHBoxLayout()
+        self.cone_paint = QDoubleSpinBox()
+        self.cone_paint.setRange(0.5, 90.0)
+        self.cone_paint.setDecimals(1)
+        self.cone_paint.setSuffix("°")
+        self.cone_paint.setValue(self.tools.cone_paint_value)
+        self.cone_paint.setToolTip("The cone angle the cone brush paints")
+        self.cone_paint.valueChanged.connect(
+            lambda v: setattr(self.tools, "cone_paint_value", float(v)))
+        self.cone_brush_button = QToolButton()
+        self.cone_brush_button.setText("Paint")
+        self.cone_brush_button.setCheckable(True)
+        self.cone_brush_button.setToolTip("Paint a per-vertex cone angle on the face with the "
+                                          "brush (Ctrl paints back the area's angle)")
+        self.cone_brush_button.clicked.connect(lambda: self._set_mode("cone"))
+        self.cone_selected_button = self._tool_button(
+            "Selected", "Give the selected vertices this cone angle", self._cones_to_selection)
+        self.cone_clear_button = self._tool_button(
+            "Clear", "Remove the painted angles: every vertex uses the area's angle",
+            self._clear_cones)
+        for w in (self.cone_paint, self.cone_brush_button, self.cone_selected_button,
+                  self.cone_clear_button):
+            painted.addWidget(w)
+        form.addRow("Painted θ", painted)
+        self.colour_button = QPushButton()
+        self.colour_button.setToolTip("The colour the area's vertices and vectors are drawn in")
+        self.colour_button.clicked.connect(self._choose_colour)
+        form.addRow("Colour", self.colour_button)
+        self.map_combo = QComboBox()
+        self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
+                                  "more)")
+        self.map_combo.activated.connect(self._map_chosen)
+        form.addRow("Wrinkle map", self.map_combo)
+        a_layout.addLayout(form)
+        layout.addWidget(areas)
+
+        select = QGroupBox("Select vertices")
+        s_layout = QVBoxLayout(select)
+        self.tool_button = QPushButton("Select tool (S)")
+        self.tool_button.setCheckable(True)
+        self.tool_button.setToolTip("Left-drag in the viewport selects; Alt+drag still orbits")
+        self.tool_button.toggled.connect(self._tool_toggled)
+        s_layout.addWidget(self.tool_button)
+        modes = QHBoxLayout()
+        self.mode_group = QButtonGroup(self)
+        self.mode_buttons: dict[str, QToolButton] = {}
+        for mode, tip in (("click", "Click a vertex"), ("box", "Drag a rectangle"),
+                          ("lasso", "Draw around vertices"), ("brush", "Paint vertices")):
+            b = QToolButton()
+            b.setText(mode.capitalize())
+            b.setCheckable(True)
+            b.setToolTip(f"{tip}. Shift adds, Ctrl removes")
+            b.clicked.connect(lambda _=False, m=mode: self._set_mode(m))
+            self.mode_group.addButton(b)
+            self.mode_buttons[mode] = b
+            modes.addWidget(b)
+        self.mode_group.addButton(self.cone_brush_button)
+        self.mode_buttons["cone"] = self.cone_brush_button
+        self.mode_buttons[self.tools.tool.mode].setChecked(True)
+        s_layout.addLayout(modes)
+        options = QHBoxLayout()
+        self.radius = QDoubleSpinBox()
+        self.radius.setRange(2.0, 300.0)
+        self.radius.setDecimals(0)
+        self.radius.setSuffix(" px")
+        self.radius.setValue(self.tools.tool.brush_radius)
+        self.radius.setToolTip("Brush radius on screen")
+        self.radius.valueChanged.connect(lambda v: setattr(self.tools.tool, "brush_radius", v))
+        options.addWidget(QLabel("Brush"))
+        options.addWidget(self.radius)
+        self.through = QCheckBox("Select through")
+        self.through.setToolTip("Also pick vertices that face away or are hidden")
+        self.through.toggled.connect(lambda on: setattr(self.tools, "select_through", on))
+        options.addWidget(self.through)
+        s_layout.addLayout(options)
+        grid = QGridLayout()
+        ops = [("Grow", "Add the neighbours of the selection", self._grow),
+               ("Shrink", "Drop the selection's border", self._shrink),
+               ("Invert", "Select what is not selected", self._invert),
+               ("Mirror", "Add the mirror image across the face's symmetry plane", self._mirror),
+               ("All", "Select every vertex", self._all),
+               ("None", "Deselect everything", self._none),
+               ("Area's", "Select the vertices the current area has vectors for",
+                self._from_area)]
+        self.op_buttons: dict[str, QPushButton] = {}
+        for i, (name, tip, slot) in enumerate(ops):
+            b = self._button(name, tip, slot)
+            self.op_buttons[name] = b
+            grid.addWidget(b, i // 3, i % 3)
+        s_layout.addLayout(grid)
+        self.selection_label = QLabel()
+        s_layout.addWidget(self.selection_label)
+        layout.addWidget(select)
+
+        create = QGroupBox("Wrinkle directions")
+        c_layout = QVBoxLayout(create)
+        suggest = QHBoxLayout()
+        self.threshold = QDoubleSpinBox()
+        self.threshold.setRange(0.0, 100.0)
+        self.threshold.setValue(20.0)
+        self.threshold.setSuffix(" %")
+        self.threshold.setToolTip("Suggest selects vertices the pose moves by more than this "
+                                  "share of its largest motion")
+        self.suggest_button = self._button("Suggest", "Select where the area's pose moves the "
+                                           "skin (as a start)", self._suggest)
+        suggest.addWidget(self.suggest_button)
+        suggest.addWidget(QLabel("over"))
+        suggest.addWidget(self.threshold)
+        c_layout.addLayout(suggest)
+        buttons = QHBoxLayout()
+        self.create_button = self._button("Create", "Set d = normalize(P_pose − P_neutral) for "
+                                          "the selected vertices; zero elsewhere in this area",
+                                          self._create)
+        self.create_button.setDefault(True)
+        self.create_button.setStyleSheet("font-weight: bold;")
+        self.clear_button = self._button("Clear", "Remove this area's vectors", self._clear)
+        buttons.addWidget(self.create_button, 2)
+        buttons.addWidget(self.clear_button, 1)
+        c_layout.addLayout(buttons)
+        self.vectors_check = QCheckBox("Show vectors")
+        self.vectors_check.setChecked(True)
+        self.vectors_check.toggled.connect(self._show_vectors)
+        heat = QCheckBox("Heat map")
+        heat.setToolTip("Show each vertex's wrinkle visibility while you move the pose sliders")
+        heat.toggled.connect(lambda on: self.doc.set_view(debug_view="heat" if on else "shaded"))
+        self.heat_check = heat
+        row2 = QHBoxLayout()
+        row2.addWidget(self.vectors_check)
+        row2.addWidget(heat)
+        c_layout.addLayout(row2)
+        self.status = QLabel()
+        self.status.setWordWrap(True)
+        c_layout.addWidget(self.status)
+        layout.addWidget(create)
+        hint = QLabel("1. Pick or add an area and its pose  2. S, then drag over the face "
+                      "(Shift adds, Ctrl removes)  3. Create  4. Move the pose slider")
+        hint.setWordWrap(True)
+        hint.setStyleSheet("color: #888;")
+        layout.addWidget(hint)
+        layout.addStretch(1)
+        self.setWidget(body)
+
+    def _button(self, text: str, tip: str, slot) -> QPushButton:
+        b = QPushButton(text)
+        b.setToolTip(tip)
+        b.clicked.connect(slot)
+        return b
+
+    def _tool_button(self, text: str, tip: str, slot) -> QToolButton:
+        b = QToolButton()
+        b.setText(text)
+        b.setToolTip(tip)
+        b.clicked.connect(slot)
+        return b
+
+    # --- showing the document ------------------------------------------------------------------
+    def _refresh(self) -> None:
+        self._updating = True
+        try:
+            areas = self.doc.project.wdv.areas
+            current = self.tools.current_area
+            if self.area_list.count() != len(areas):
+                # rebuilt only when the count changes: a rename or mute arrives from the item's
+                # own itemChanged signal, and that item must not be deleted under it
+                self.area_list.clear()
+                for _ in areas:
+                    item = QListWidgetItem()
+                    item.setFlags(item.flags() | Qt.ItemFlag.ItemIsEditable
+                                  | Qt.ItemFlag.ItemIsUserCheckable)
+                    self.area_list.addItem(item)
+            for row, area in enumerate(areas):
+                item = self.area_list.item(row)
+                item.setIcon(swatch(area.colour))
+                item.setText(area.name)
+                item.setCheckState(Qt.CheckState.Checked if area.enabled
+                                   else Qt.CheckState.Unchecked)
+                n = int(area.authored.sum())
+                painted = (0 if area.cone_angles_deg is None
+                           else int((area.cone_angles_deg > 0).sum()))
+                item.setToolTip(f"{area.name}: pose “{area.pose}”, {n} vectors, cone "
+                                f"{area.cone_angle_deg:g}° ({painted} vertices painted). "
+                                "Double-click to rename; the check box mutes it")
+            if current is not None:
+                self.area_list.setCurrentRow(areas.index(current))
+            self.pose_combo.clear()
+            for name in self.doc.project.pose_names:
+                if name != NEUTRAL:
+                    self.pose_combo.addItem(name, name)
+            self.map_combo.clear()
+            for name in self.doc.project.textures.wrinkle_map_names:
+                self.map_combo.addItem(name, name)
+            has = current is not None
+            for w in (self.delete_button, self.up_button, self.down_button, self.solo_button,
+                      self.pose_combo, self.cone, self.colour_button, self.create_button,
+                      self.clear_button, self.suggest_button, self.map_combo,
+                      self.cone_brush_button, self.cone_selected_button, self.cone_clear_button):
+                w.setEnabled(has)
+            if has:
+                self.pose_combo.setCurrentIndex(self.pose_combo.findData(current.pose))
+                textures = self.doc.project.textures
+                self.map_combo.setCurrentIndex(textures.map_index(current.wrinkle_map))
+                self.cone.set_value(current.cone_angle_deg)
+                self.colour_button.setIcon(swatch(current.colour, 16))
+                self.colour_button.setText(" #{:02x}{:02x}{:02x}".format(*current.colour))
+                self.create_button.setText(f"Create for “{current.name}”")
+        finally:
+            self._updating = False
+
+    def _show_view(self) -> None:
+        self.heat_check.blockSignals(True)
+        self.heat_check.setChecked(self.doc.view.debug_view == "heat")
+        self.heat_check.blockSignals(False)
+
+    def _show_selection(self) -> None:
+        n = int(self.doc.selection.sum())
+        self.selection_label.setText(f"{n} of {len(self.doc.selection)} vertices selected")
+
+    def tool_active(self, on: bool) -> None:
+        if self.tool_button.isChecked() != on:
+            self.tool_button.setChecked(on)
+
+    def _say(self, text: str, warning: bool = False) -> None:
+        self.status.setStyleSheet("color: #e0a030;" if warning else "")
+        self.status.setText(text)
+        self.message.emit(text)
+        window = self.window()
+        if hasattr(window, "statusBar"):
+            window.statusBar().showMessage(text, 6000)
+
+    # --- area edits ----------------------------------------------------------------------------
+    def _area(self):
+        return self.tools.current_area
+
+    def _row_changed(self, row: int) -> None:
+        if self._updating:
+            return
+        areas = self.doc.project.wdv.areas
+        self.tools.set_current_area(areas[row] if 0 <= row < len(areas) else None)
+
+    def _item_changed(self, item: QListWidgetItem) -> None:
+        if self._updating:
+            return
+        row = self.area_list.row(item)
+        area = self.doc.project.wdv.areas[row]
+        enabled = item.checkState() == Qt.CheckState.Checked
+        try:
+            if item.text() != area.name:
+                edits.set_area_value(self.doc, area, "name", item.text(), "Rename")
+            if enabled != area.enabled:
+                edits.set_area_value(self.doc, area, "enabled", enabled,
+                                     "Show" if enabled else "Mute")
+        except ValueError as exc:
+            self._say(str(exc), warning=True)
+            self._refresh()
+
+    def _add(self) -> None:
+        current = self._area()
+        pose = current.pose if current is not None else None
+        area = edits.add_area(self.doc, "area", pose)
+        self.tools.set_current_area(area)
+
+    def _delete(self) -> None:
+        area = self._area()
+        if area is not None:
+            edits.delete_area(self.doc, self.doc.project.wdv.areas.index(area))
+
+    def _move(self, step: int) -> None:
+        area = self._area()
+        if area is not None:
+            i = self.doc.project.wdv.areas.index(area)
+            edits.move_area(self.doc, i, i + step)
+
+    def _solo(self) -> None:
+        area = self._area()
+        areas = self.doc.project.wdv.areas
+        if area is None:
+            return
+        soloed = tuple(a is area for a in areas)
+        current = tuple(a.enabled for a in areas)
+        if current == soloed:
+            edits.set_enabled_all(self.doc, tuple(True for _ in areas), "Show all areas")
+        else:
+            edits.set_enabled_all(self.doc, soloed, f"Solo {area.name}")
+
+    def _pose_chosen(self, index: int) -> None:
+        area = self._area()
+        if area is not None and index >= 0:
+            edits.set_area_value(self.doc, area, "pose", self.pose_combo.itemData(index), "Pose")
+
+    def _map_chosen(self, index: int) -> None:
+        area = self._area()
+        if area is not None and index >= 0:
+            edits.set_area_value(self.doc, area, "wrinkle_map", self.map_combo.itemData(index),
+                                 "Wrinkled map")
+
+    def _cones_to_selection(self) -> None:
+        area = self._area()
+        if area is not None and self.doc.selection.any():
+            edits.set_cone_angles(self.doc, area, self.doc.selection.copy(),
+                                  self.tools.cone_paint_value)
+
+    def _clear_cones(self) -> None:
+        area = self._area()
+        if area is not None:
+            edits.set_cone_angles(self.doc, area, None, 0.0)
+
+    def _cone_edited(self, value: float, gesture) -> None:
+        area = self._area()
+        if area is not None and not self._updating:
+            edits.set_area_value(self.doc, area, "cone_angle_deg", float(value), "Cone angle",
+                                 gesture)
+
+    def _choose_colour(self) -> None:
+        area = self._area()
+        if area is None:
+            return
+        colour = QColorDialog.getColor(QColor(*area.colour), self, f"Colour of {area.name}")
+        if colour.isValid():
+            edits.set_area_value(self.doc, area, "colour",
+                                 (colour.red(), colour.green(), colour.blue()), "Colour")
+
+    # --- selection -----------------------------------------------------------------------------
+    def _tool_toggled(self, on: bool) -> None:
+        action = getattr(self.tools, "select_action", None)
+        if action is not None and action.isChecked() != on:
+            action.setChecked(on)
+
+    def _set_mode(self, mode: str) -> None:
+        self.tools.tool.mode = mode
+        self.mode_buttons[mode].setChecked(True)
+        self._tool_toggled(True)
+
+    def _grow(self) -> None:
+        edits.set_selection(self.doc, sel.grow(self.doc.selection, self.tools.edges()), "Grow")
+
+    def _shrink(self) -> None:
+        edits.set_selection(self.doc, sel.shrink(self.doc.selection, self.tools.edges()),
+                            "Shrink")
+
+    def _invert(self) -> None:
+        edits.set_selection(self.doc, sel.invert(self.doc.selection), "Invert selection")
+
+    def _mirror(self) -> None:
+        edits.set_selection(self.doc, sel.mirror(self.doc.selection, self.tools.mirror_index()),
+                            "Mirror selection")
+
+    def _all(self) -> None:
+        edits.set_selection(self.doc, np.ones_like(self.doc.selection), "Select all")
+
+    def _none(self) -> None:
+        edits.set_selection(self.doc, np.zeros_like(self.doc.selection), "Select none")
+
+    def _from_area(self) -> None:
+        area = self._area()
+        if area is not None:
+            edits.set_selection(self.doc, area.authored.copy(), f"Select {area.name}")
+
+    def _suggest(self) -> None:
+        area = self._area()
+        if area is None:
+            return
+        project = self.doc.project
+        hits = sel.suggest(project.mesh.rest, project.pose(area.pose).positions,
+                           self.threshold.value() / 100.0)
+        edits.set_selection(self.doc, hits, f"Suggest for {area.name}")
+        self._say(f"Suggested {int(hits.sum())} vertices that “{area.pose}” moves")
+
+    # --- vectors -------------------------------------------------------------------------------
+    def _create(self) -> None:
+        area = self._area()
+        if area is None:
+            self._say("Add an area first.", warning=True)
+            return
+        n = int(self.doc.selection.sum())
+        if n == 0:
+            self._say("Select the vertices first (S, then drag over the face).", warning=True)
+            return
+        still = edits.create_directions(self.doc, area)
+        made = n - len(still)
+        if len(still):
+            self._say(f"{len(still)} of the {n} selected vertices do not move in “{area.pose}”, "
+                      f"so they got no direction; {made} vectors created.", warning=True)
+        else:
+            self._say(f"{made} wrinkle direction vectors created for “{area.name}”.")
+
+    def _clear(self) -> None:
+        area = self._area()
+        if area is not None:
+            edits.clear_directions(self.doc, area)
+            self._say(f"Cleared the vectors of “{area.name}”.")
+
+    def _show_vectors(self, on: bool) -> None:
+        self.tools.overlay.show_vectors = on
+        self.tools.viewport.update()
+
+
+def install_wdv_tools(window) -> WdvTools:
+    """Create the "Wrinkle vectors" dock, the select tool's toolbar action (S) and the overlay."""
+    tools = WdvTools(window.doc, window.viewport)
+    panel = WdvPanel(window.doc, tools)
+    window._add_dock("Wrinkle vectors", panel, Qt.DockWidgetArea.RightDockWidgetArea)
+    action = QAction("Select vertices", window)
+    action.setCheckable(True)
+    action.setShortcut(QKeySequence("S"))
+    action.setToolTip("Select vertices for wrinkle direction vectors (S)\n"
+                      "Click, drag a box / lasso, or paint; Shift adds, Ctrl removes")
+
+    def toggled(on: bool) -> None:
+        window.viewport.set_tool(tools.tool if on else None)
+        panel.tool_active(on)
+
+    action.toggled.connect(toggled)
+    window.tools.addAction(action)
+    window.viewport.overlays.append(tools.overlay)
+    tools.select_action = action
+    tools.panel = panel
+    tools.timing.connect(lambda what, ms: window.statusBar().showMessage(
+        f"{what}: {ms:.1f} ms", 2000))
+    window.wdv_tools = tools
+    return tools
