@@ -87,7 +87,7 @@ def both_ways(studio: OffscreenStudio, settings: RenderSettings) -> tuple[np.nda
 
 
 def wrinkled_share(studio: OffscreenStudio, technique: str) -> float:
-    return float(studio.renderer._wrinkled_triangles(RenderSettings(technique=technique)).mean())
+    return float(studio.renderer.face.wrinkled_triangles(RenderSettings(technique=technique)).mean())
 
 
 @pytest.mark.parametrize("technique", ["t2", "t1", "strain"])
@@ -135,7 +135,7 @@ def test_a_dab_in_an_empty_area_is_drawn_with_the_wrinkle_program(studio):
 
 def test_the_index_buffer_is_rewritten_only_when_the_split_or_view_changes(studio, monkeypatch):
     writes = []
-    ibo = studio.renderer._split.ibo
+    ibo = studio.renderer.face.split.ibo
     original = ibo.write
     monkeypatch.setattr(ibo, "write", lambda data, **kw: (writes.append(1), original(data, **kw)))
     settings = RenderSettings(technique="t2")
@@ -157,7 +157,7 @@ def test_triangles_are_drawn_nearest_first_for_the_view(studio):
     """Early depth testing skips the shading of hidden pixels only if the near surface is
     drawn first: the first triangles in the buffer are nearer the camera than the last."""
     studio.render(RenderSettings(technique="none"))
-    order = np.frombuffer(studio.renderer._split.ibo.read(), np.int32).reshape(-1, 3)
+    order = np.frombuffer(studio.renderer.face.split.ibo.read(), np.int32).reshape(-1, 3)
     mesh = studio.scene.project.mesh
     view = studio.camera.view_matrix()
     depth = -(mesh.rest[mesh.weld][order].mean(axis=1) @ view[2, :3])

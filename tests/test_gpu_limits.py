@@ -21,7 +21,7 @@ def test_more_areas_than_the_gpu_holds(renderer, gl_context):
     renderer.set_masks(np.zeros((2, 8, 8), np.float32))
     with pytest.raises(RenderError, match=f"at most {limit} masks"):
         renderer.set_masks(np.zeros((limit + 1, 1, 1), np.float32))
-    assert renderer._area_count == 2 and renderer._masks.size == (8, 8, 2)
+    assert renderer.t1.area_count == 2 and renderer.t1.masks.size == (8, 8, 2)
 
 
 def test_masks_larger_than_the_gpu_holds(renderer, gl_context):
@@ -36,12 +36,12 @@ def test_textures_larger_than_the_gpu_holds(renderer, gl_context, monkeypatch):
 
     textures = make_sample(561, texture_size=64, mask_size=32).textures
     renderer.set_textures(textures)
-    before = dict(renderer._textures)
+    before = dict(renderer.maps.textures)
     info = {**gl_context.info, "GL_MAX_TEXTURE_SIZE": 32}
     monkeypatch.setattr(type(gl_context), "info", property(lambda self: info))
     with pytest.raises(RenderError, match="diffuse map is 64×64 pixels"):
         renderer.set_textures(textures)
-    assert renderer._textures == before  # untouched: the face still draws
+    assert renderer.maps.textures == before  # untouched: the face still draws
 
 
 def test_a_driver_failure_becomes_a_render_error(renderer, gl_context, monkeypatch):

@@ -11,7 +11,7 @@ from studio.core.project.sample import sample_landmarks
 from studio.core.wrinkles.normalmap import height_to_normal
 from studio.core.wrinkles.relief import height_from_normals, relief_image, wrinkle_heights
 from studio.core.wrinkles.textures import flat_normal_map
-from studio.render import renderer as renderer_module
+from studio.render import relief_pass
 from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import FaceRenderer, RenderSettings
 from tests.regions import landmark_pixels, region_difference
@@ -204,8 +204,8 @@ def test_without_opengl_4_displacement_is_refused_with_a_clear_message(studio, m
 
 def test_wrinkle_heights_are_made_once_per_set_of_maps_not_per_frame(studio, monkeypatch):
     calls = []
-    real = renderer_module.relief_image
-    monkeypatch.setattr(renderer_module, "relief_image",
+    real = relief_pass.relief_image
+    monkeypatch.setattr(relief_pass, "relief_image",
                         lambda *a: calls.append(1) or real(*a))
     project = studio.scene.project
     for pose in ("surprise", "squeeze", "frown"):

@@ -208,9 +208,9 @@ def test_a_painted_rectangle_recomposes_like_a_full_upload(sample, gl_context):
     patch = np.ones((h // 4, w // 4), np.float32)
     area.mask[h // 3:h // 3 + h // 4, w // 3:w // 3 + w // 4] = patch
     painted.renderer.update_mask_region(3, w // 3, h // 3, patch)
-    assert painted.renderer._t1_dirty_rect == (w // 3, h // 3, w // 4, h // 4)
+    assert painted.renderer.t1.dirty_rect == (w // 3, h // 3, w // 4, h // 4)
     after_dab = painted.render(RenderSettings(technique="t1"))  # same pose: only the dab
-    assert painted.renderer._t1_dirty_rect is None
+    assert painted.renderer.t1.dirty_rect is None
     painted.release()
     fresh = OffscreenStudio(sample, W, H, ctx=gl_context)
     expected = fresh.render(RenderSettings(technique="t1"), weights)

@@ -28,7 +28,7 @@ from studio.widgets.maps.bake_tools import install_bake_tools
 from studio.widgets.maps.map_tools import install_map_tools
 from studio.widgets.paint.tools import install_mask_tools
 from studio.widgets.timeline.pose_panel import PosePanel
-from studio.widgets.timeline.tools import install_timeline_tools
+from studio.widgets.timeline.tools import add_timeline_menu_entries, install_timeline_tools
 from studio.widgets.viewport.shading_panel import ShadingPanel
 from studio.widgets.viewport.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
 from studio.widgets.wdv.panel import install_wdv_tools
@@ -73,6 +73,7 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()
         install_map_tools(self)  # Maps menu and File ▸ Export, needs the menus
+        add_timeline_menu_entries(self)  # File ▸ Export Animation… (after Export), View
         install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
         self._arrange_docks()
@@ -135,8 +136,14 @@ class MainWindow(QMainWindow):
         return action
 
     def _build_menus(self) -> None:
+        """The menu bar, every top-level menu created here in its order and kept in
+        ``self.menus`` by its plain title, so the feature modules that add entries find them
+        without searching the bar; ``self.quit_action`` is where File's additions go above."""
         bar = self.menuBar()
-        file = bar.addMenu("&File")
+        self.menus: dict[str, QMenu] = {
+            title.replace("&", ""): bar.addMenu(title)
+            for title in ("&File", "&Edit", "&View", "&Maps", "&Tools", "&Help")}
+        file = self.menus["File"]
         self._action(file, "&New from Files…", self.new_from_files, QKeySequence.StandardKey.New,
                      "Start a project from a neutral mesh, key-pose meshes and texture maps")
         self._action(file, "&Open…", self.open_dialog, QKeySequence.StandardKey.Open)
@@ -147,9 +154,9 @@ class MainWindow(QMainWindow):
         self._action(file, "&Save", self.save, QKeySequence.StandardKey.Save)
         self._action(file, "Save &As…", self.save_as, "Ctrl+Shift+S")
         file.addSeparator()
-        self._action(file, "&Quit", self.close, QKeySequence.StandardKey.Quit)
+        self.quit_action = self._action(file, "&Quit", self.close, QKeySequence.StandardKey.Quit)
 
-        edit = bar.addMenu("&Edit")
+        edit = self.menus["Edit"]
         undo = self.doc.undo_stack.createUndoAction(self, "&Undo")
         undo.setShortcut(QKeySequence.StandardKey.Undo)
         redo = self.doc.undo_stack.createRedoAction(self, "&Redo")
@@ -160,7 +167,7 @@ class MainWindow(QMainWindow):
         edit.addAction(self.docks["History"].toggleViewAction())
         self.docks["History"].toggleViewAction().setText("Undo &History")
 
-        view = bar.addMenu("&View")
+        view = self.menus["View"]
         numpad_period = QKeySequence(Qt.Key.Key_Period | Qt.KeyboardModifier.KeypadModifier)
         frame = self._action(view, "&Frame Face", self.doc.frame_face,
                              ["Home", numpad_period, "F"],
@@ -179,7 +186,7 @@ class MainWindow(QMainWindow):
         view.addSeparator()
         self._action(view, "Reset &Layout", self.reset_layout)
 
-        help_menu = bar.addMenu("&Help")
+        help_menu = self.menus["Help"]
         self._action(help_menu, "&Navigation…", self.show_navigation_help, "F1")
         self._action(help_menu, "&About Wrinkle Studio", self.show_about)
 

@@ -28,7 +28,6 @@ from PySide6.QtWidgets import (
     QLabel,
     QListWidget,
     QListWidgetItem,
-    QMenu,
     QMessageBox,
     QVBoxLayout,
 )
@@ -284,13 +283,8 @@ class AutoTools:
 
 def install_auto_tools(window) -> AutoTools:
     tools = AutoTools(window)
-    bar = window.menuBar()
-    menu = next((a.menu() for a in bar.actions() if a.text().replace("&", "") == "Tools"), None)
-    if menu is None:
-        menu = QMenu("&Tools", window)
-        help_action = next(a for a in bar.actions() if a.text().replace("&", "") == "Help")
-        bar.insertMenu(help_action, menu)
-    else:
+    menu = window.menus["Tools"]
+    if menu.actions():
         menu.addSeparator()
     menu.addAction("Auto Setup from Poses", tools.run_auto_setup).setStatusTip(
         "For every key pose: wrinkle vectors where it moves the skin and a soft mask where it "

@@ -243,8 +243,7 @@ class BakeTools(QObject):
 def install_bake_tools(window) -> BakeTools:
     """Add the bake at the end of the Maps menu, below the wrinkled maps."""
     tools = BakeTools(window)
-    bar = window.menuBar()
-    menu = next(a.menu() for a in bar.actions() if a.text().replace("&", "") == "Maps")
+    menu = window.menus["Maps"]
     action = QAction("Bake Wrinkled Normal Map from High-Poly Mesh…", window)
     action.triggered.connect(tools.open_dialog)
     menu.addAction(action)

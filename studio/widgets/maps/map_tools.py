@@ -245,8 +245,7 @@ class MapTools:
 
 def install_map_tools(window) -> MapTools:
     tools = MapTools(window)
-    bar = window.menuBar()
-    menu = QMenu("&Maps", window)
+    menu = window.menus["Maps"]
     for key in ("diffuse", "normal_neutral"):
         menu.addAction(f"Replace {MAPS[key]}…", lambda k=key: tools.replace(k))
     menu.addAction("Flip Green of Neutral Normal Map (DirectX ↔ OpenGL)",
@@ -255,13 +254,9 @@ def install_map_tools(window) -> MapTools:
     wrinkled = menu.addMenu("&Wrinkled Normal Maps")
     menu.aboutToShow.connect(lambda: tools.fill_wrinkled_menu(wrinkled))
     tools.fill_wrinkled_menu(wrinkled)
-    help_action = next(a for a in bar.actions() if a.text().replace("&", "") == "Help")
-    bar.insertMenu(help_action, menu)
-    file_menu = next(a.menu() for a in bar.actions() if a.text().replace("&", "") == "File")
-    quit_action = file_menu.actions()[-1]
     export = QMenu("E&xport", window)
     export.addAction("glTF (.glb)…", tools.export_gltf)
     export.addAction("Folder for a Game Engine…", tools.export_folder)
-    file_menu.insertMenu(quit_action, export)
+    window.menus["File"].insertMenu(window.quit_action, export)
     window.map_tools = tools
     return tools

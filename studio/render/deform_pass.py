@@ -1,0 +1,51 @@
+"""The deform pass: this frame's pose → normals and tangents → the GPU's interleaved buffer.
+
+Only the render vertices the pose moved are written (DeformCache keeps the span), and nothing
+at all when the positions did not change since the last draw.
+"""
+
+from __future__ import annotations
+
+import time
+
+import moderngl
+import numpy as np
+
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import DeformCache
+
+ATTRIBUTES = "3f 3f 4f"  # position, normal, tangent (w: handedness) per render vertex
+NAMES = ("in_position", "in_normal", "in_tangent")
+
+
+class DeformPass:
+    """Welded positions of the current pose, and their upload as vertex attributes."""
+
+    def __init__(self, ctx: moderngl.Context, mesh: FaceMesh) -> None:
+        self.mesh = mesh
+        self._cache = DeformCache(mesh)
+        self.buffer = ctx.buffer(reserve=mesh.n_vertices * 10 * 4, dynamic=True)
+        self.positions = mesh.rest.copy()
+        self.version = 0  # counts pose changes: what per-pose caches of other passes key on
+        self.dirty = True
+        self.last_ms = 0.0  # CPU time of the last normals + tangents update
+
+    def set_positions(self, welded_positions: np.ndarray) -> None:
+        np.copyto(self.positions, welded_positions)
+        self.dirty = True
+        self.version += 1
+
+    def upload(self) -> None:
+        """Normals and tangents for the new pose, written where the pose moved the face."""
+        if not self.dirty:
+            return
+        start = time.perf_counter()
+        attributes = self._cache.update(self.positions)
+        self.last_ms = (time.perf_counter() - start) * 1000.0
+        lo, hi = self._cache.last_span
+        if hi > lo:
+            self.buffer.write(attributes[lo:hi], offset=lo * attributes.strides[0])
+        self.dirty = False
+
+    def release(self) -> None:
+        self.buffer.release()
