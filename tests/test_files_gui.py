@@ -1,7 +1,7 @@
 """User stories with real events on the real widgets: a project saved with Ctrl+S, the window
 closed with Ctrl+Q, and the project reopened from File ▸ Open Recent in a new window; a damaged
-file picked from the same menu, with the real error dialog answered by a key; a lasso drawn with
-the mouse around the forehead, then Create.
+file picked from the same menu, with the real error dialog answered by a key; opening cancelled
+from its progress dialog; a lasso drawn with the mouse around the forehead, then Create.
 
 Only the operating system's file chooser is replaced (it is not part of the studio); every other
 step is a mouse click, a drag or a key press, and each story checks both the document and the
@@ -11,12 +11,21 @@ drawn image.
 from __future__ import annotations
 
 import copy
+import threading
 
 import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt, QTimer
-from PySide6.QtWidgets import QApplication, QFileDialog, QMenu, QMessageBox
+from PySide6.QtWidgets import (
+    QApplication,
+    QFileDialog,
+    QMenu,
+    QMessageBox,
+    QProgressDialog,
+    QPushButton,
+)
 
+from studio.core.project import reader
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
 from studio.core.project.sample import make_sample
@@ -141,6 +150,60 @@ def test_a_damaged_file_from_the_recent_menu_shows_the_error_dialog(real_message
     assert window.doc.pose_weights["frown"] == pytest.approx(1.0, abs=0.01)
     assert str(path.resolve()) not in window.recent_files()
     assert np.array_equal(viewport_image(window), before)
+
+
+def test_opening_a_project_can_be_cancelled_and_keeps_the_open_one(real_message_boxes,
+                                                                    open_window, qtbot,
+                                                                    tmp_path, monkeypatch):
+    """File ▸ Open reads the project on a worker thread behind a progress dialog: the window
+    keeps drawing, and Cancel (clicked with the mouse) stops the load with nothing changed."""
+    window = open_window(fresh_sample())
+    assert window.save_to(tmp_path / "face.wrinkle")
+    path = tmp_path / "big.wrinkle"
+    path.write_bytes((tmp_path / "face.wrinkle").read_bytes())
+    drag_slider(qtbot, window.pose_panel.pose_rows["frown"].slider, 1.0)
+    project, steps = window.doc.project, window.doc.undo_stack.count()
+    before = viewport_image(window)
+    # hold the load after its first member until the test has pressed Cancel, so the dialog
+    # is certainly up (a real large project takes seconds here)
+    held, release = threading.Event(), threading.Event()
+    real_read = reader._Loader.read
+
+    def slow_read(self, name, what):
+        data = real_read(self, name, what)
+        if not held.is_set():
+            held.set()
+            release.wait(10)
+        return data
+
+    monkeypatch.setattr(reader._Loader, "read", slow_read)
+    monkeypatch.setattr(QFileDialog, "getOpenFileName",
+                        staticmethod(lambda *a, **k: (str(path), "")))
+    monkeypatch.setattr(window, "maybe_save", lambda: True)  # keep the edit: no question
+
+    def press_cancel() -> None:
+        dialog = window.findChild(QProgressDialog)
+        if dialog is None or not dialog.isVisible():
+            QTimer.singleShot(50, press_cancel)
+            return
+        assert held.is_set()
+        (button,) = dialog.findChildren(QPushButton)
+        qtbot.mouseClick(button, LEFT)
+        release.set()
+
+    QTimer.singleShot(0, press_cancel)
+    activate(qtbot, window)
+    qtbot.keyClick(window, Qt.Key.Key_O, CTRL)
+    assert release.is_set()  # the dialog came up and was cancelled
+    assert window.doc.project is project and window.doc.path == tmp_path / "face.wrinkle"
+    assert window.doc.undo_stack.count() == steps
+    assert "cancelled" in window.statusBar().currentMessage()
+    assert np.array_equal(viewport_image(window), before)
+
+    monkeypatch.setattr(reader._Loader, "read", real_read)  # and the same file opens whole
+    activate(qtbot, window)
+    qtbot.keyClick(window, Qt.Key.Key_O, CTRL)
+    assert window.doc.path == path and window.doc.pose_weights.get("frown", 0.0) == 0.0
 
 
 @pytest.fixture

@@ -18,10 +18,11 @@ from PySide6.QtWidgets import (
 )
 
 from studio import __version__
-from studio.core.files.errors import StudioError
+from studio.core.files.errors import Cancelled, StudioError
 from studio.core.project.model import Project
 from studio.widgets.app_settings import settings
 from studio.widgets.autosave import install_autosave
+from studio.widgets.background import run_with_progress
 from studio.widgets.document import Document
 from studio.widgets.maps.auto_tools import install_auto_tools
 from studio.widgets.maps.bake_tools import install_bake_tools
@@ -266,11 +267,17 @@ class MainWindow(QMainWindow):
         return answer == QMessageBox.StandardButton.Discard
 
     def open_path(self, path: Path) -> bool:
-        """Open a project; on failure say why and keep the open project untouched."""
+        """Open a project, read on a worker thread behind a progress dialog with Cancel (a large
+        project takes seconds); on failure say why, on cancel say so, and in both cases keep
+        the open project untouched."""
         from studio.core.project.reader import load_project
 
         try:
-            project = load_project(path)
+            project = run_with_progress(self, "Opening project", f"Opening {path.name}…",
+                                        lambda progress: load_project(path, progress))
+        except Cancelled:
+            self.statusBar().showMessage(f"Opening {path.name} cancelled", 5000)
+            return False
         except StudioError as exc:
             self.show_error("Cannot open project", exc)
             self._forget_recent(path)

@@ -33,3 +33,8 @@ class ImageError(StudioError):
 
 class RenderError(StudioError):
     """OpenGL is missing or too old, or the GPU cannot hold what was asked."""
+
+
+class Cancelled(Exception):
+    """The user cancelled long work (a load, a bake); nothing was changed. Not a StudioError:
+    there is nothing to explain to the user."""

@@ -10,6 +10,7 @@ import struct
 import warnings
 import zipfile
 import zlib
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -23,7 +24,7 @@ import numpy as np
 from studio.core.animation.poses import NEUTRAL, KeyPose
 from studio.core.animation.timeline import Timeline
 from studio.core.files.budgets import check_json_depth
-from studio.core.files.errors import ProjectError, StudioError
+from studio.core.files.errors import Cancelled, ProjectError, StudioError
 from studio.core.files.input_checks import check_camera
 from studio.core.files.png import PngError, read_png
 from studio.core.files.safe_io import os_reason, require_regular
@@ -61,12 +62,19 @@ _DAMAGE = (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, struct.error, E
            SyntaxError, MemoryError, AttributeError)
 
 
-def load_project(path: str | Path) -> Project:
-    """Read a ``.wrinkle`` file, checking every part; ProjectError(one sentence, path) if bad."""
+Progress = Callable[[int, int], bool]  # (bytes read, bytes in all) -> go on?
+
+
+def load_project(path: str | Path, progress: Progress | None = None) -> Project:
+    """Read a ``.wrinkle`` file, checking every part; ProjectError(one sentence, path) if bad.
+
+    ``progress(done, total)`` is called after each member is read (bytes unpacked so far and in
+    all); returning False stops the load with ``Cancelled`` (the GUI's Cancel button, run on a
+    worker thread)."""
     path = Path(path)
     try:
         with _open_archive(path) as archive:
-            return _Loader(archive, path).project()
+            return _Loader(archive, path, progress).project()
     except ProjectError:
         raise
     except StudioError as exc:
@@ -117,10 +125,13 @@ def _unsafe_name(name: str) -> bool:
 class _Loader:
     """Reads one open archive into a Project; every method fails with a ProjectError."""
 
-    def __init__(self, archive: zipfile.ZipFile, path: Path) -> None:
+    def __init__(self, archive: zipfile.ZipFile, path: Path,
+                 progress: Progress | None = None) -> None:
         self.archive = archive
         self.path = path
         self.sizes = self._check_directory()
+        self.progress = progress
+        self.done, self.total = 0, sum(self.sizes.values())
         self.images = ImageBudget(path)  # decoded pixels, and each mask member decoded once
 
     def fail(self, message: str) -> NoReturn:
@@ -162,6 +173,9 @@ class _Loader:
             data = member.read(self.sizes[name] + 1)
         if len(data) != self.sizes[name]:
             self.fail(f"the member '{name}' ({what}) is truncated or damaged")
+        self.done += len(data)
+        if self.progress is not None and not self.progress(self.done, self.total):
+            raise Cancelled()
         return data
 
     # -- project.json

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studio.core.files.errors import MeshError
+from studio.core.files.errors import Cancelled, MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache, vertex_normals
 from studio.core.wrinkles.mask_ops import rasterise_uv
@@ -52,7 +52,7 @@ _CHUNK = 8192  # rays per chunk: bounds the memory of the candidate pairs
 _MIN_Z = 1e-3  # tangent-space z kept above this: the shader rebuilds z = sqrt(1 - x² - y²) ≥ 0
 
 
-class BakeCancelled(Exception):
+class BakeCancelled(Cancelled):
     """The user cancelled the bake; nothing was changed."""
 
 
