@@ -14,6 +14,7 @@ import numpy as np
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoStack
 
+from studio.core.animation.poses import PoseBlender
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.project.model import Project
 from studio.core.project.view_settings import ViewSettings
@@ -55,8 +56,25 @@ class Document(QObject):
         self.modifiedChanged.emit(not clean)
 
     def _forget_face(self) -> None:
-        """New poses, a new face frame (found again when next asked for)."""
+        """New poses: a new face frame and new posed positions (made again when asked for)."""
         self._face = None
+        self._blender: PoseBlender | None = None
+        self._posed: tuple[tuple, np.ndarray] | None = None
+
+    def posed_positions(self) -> np.ndarray:
+        """Welded positions at the current pose weights (what the viewport draws), read-only:
+        blended once per change of the weights and shared by every tool that picks, paints or
+        draws on the posed face."""
+        if self._blender is None:
+            self._blender = PoseBlender(self.project.mesh.rest, self.project.poses)
+        names = set(self._blender.names)
+        weights = {k: v for k, v in self.pose_weights.items() if k in names}
+        key = tuple(sorted(weights.items()))
+        if self._posed is None or self._posed[0] != key:
+            positions = self._blender.blend(weights).copy()
+            positions.flags.writeable = False
+            self._posed = (key, positions)
+        return self._posed[1]
 
     # --- the whole project ---------------------------------------------------------------------
     def _load(self, project: Project, path: Path | None) -> None:
@@ -74,7 +92,7 @@ class Document(QObject):
         # studio/widgets/wdv/edits.py, announced by selectionChanged
         self.selection = np.zeros(project.mesh.n_welded, dtype=bool)
         self.frame = float(project.view.get("frame", project.timeline.start))  # the playhead
-        self._face: FaceFrame | None = None  # found when first asked for
+        self._forget_face()  # the face frame and posed positions: found when first asked for
         self.camera = OrbitCamera.from_dict(project.view.get("camera", {}))
         if "camera" not in project.view:
             self.frame_face()

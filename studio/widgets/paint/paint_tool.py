@@ -21,7 +21,6 @@ import numpy as np
 from PySide6.QtCore import QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 
-from studio.core.animation.poses import PoseBlender
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.picking import Hit, ray_triangles
 from studio.core.wrinkles.brush import Stroke, union
@@ -58,21 +57,11 @@ class FacePaintTool:
     # --- picking -------------------------------------------------------------------------------
     def _positions(self, viewport) -> np.ndarray:
         """Render-vertex positions of the face as drawn (posed); blended once per pose."""
-        mesh = self.doc.project.mesh
-        scene = getattr(viewport, "scene", None)
-        if scene is not None and scene.project is self.doc.project:
-            blender = scene.blender
-        else:
-            blender = PoseBlender(mesh.rest, self.doc.project.poses)
         # the document's weights, which the next frame draws (the scene takes them then)
-        names = set(blender.names)
-        weights = {k: float(v) for k, v in self.doc.pose_weights.items() if k in names}
-        key = (blender, mesh, tuple(sorted(weights.items())))
-        cached = self._posed
-        if cached is None or not (cached[0] is key[0] and cached[1] is key[1]
-                                  and cached[2] == key[2]):
-            self._posed = (*key, blender.blend(weights)[mesh.weld])
-        return self._posed[3]
+        posed = self.doc.posed_positions()
+        if self._posed is None or self._posed[0] is not posed:
+            self._posed = (posed, posed[self.doc.project.mesh.weld])
+        return self._posed[1]
 
     def pick(self, viewport, x: float, y: float) -> tuple[Hit, np.ndarray] | None:
         """(hit, positions) for a widget position, or None off the face."""

@@ -100,15 +100,7 @@ class WdvTools(QObject):
     def posed(self) -> np.ndarray:
         """Welded positions at the current pose weights (what the viewport shows)."""
         if self._posed is None:
-            scene = self.viewport.scene
-            if scene is not None and scene.project is self.doc.project:
-                self._posed = scene.blender.blend(self.doc.pose_weights)
-            else:
-                from studio.core.animation.poses import PoseBlender
-
-                project = self.doc.project
-                self._posed = PoseBlender(project.mesh.rest, project.poses).blend(
-                    self.doc.pose_weights)
+            self._posed = self.doc.posed_positions()
         return self._posed
 
     def normals(self) -> np.ndarray:
