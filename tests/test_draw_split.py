@@ -87,7 +87,8 @@ def both_ways(studio: OffscreenStudio, settings: RenderSettings) -> tuple[np.nda
 
 
 def wrinkled_share(studio: OffscreenStudio, technique: str) -> float:
-    return float(studio.renderer.face.wrinkled_triangles(RenderSettings(technique=technique)).mean())
+    settings = RenderSettings(technique=technique)
+    return float(studio.renderer.face.wrinkled_triangles(settings).mean())
 
 
 @pytest.mark.parametrize("technique", ["t2", "t1", "strain"])

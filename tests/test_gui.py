@@ -11,6 +11,7 @@ import pytest
 from PySide6.QtCore import Qt
 
 from studio.core.project.reader import load_project
+from studio.core.wrinkles.wdv import WdvSetup
 from studio.widgets.viewport.viewport import split_columns
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
@@ -61,6 +62,21 @@ def test_split_view_shows_t1_t2_and_automatic_side_by_side(window):
     assert (middle.max(axis=2) > 8).sum() > 100
     labels = [lbl.text() for lbl in window.viewport._labels if lbl.isVisible()]
     assert [t.split(" ·")[0] for t in labels] == ["Technique 1", "Technique 2", "Automatic"]
+
+
+def test_the_expression_factor_changes_a_uniform_not_the_wrinkle_vectors(window, monkeypatch):
+    """Dragging the expression factor redraws technique 2 without repacking every vertex's
+    wrinkle vectors (upload only what changed)."""
+    window.doc.set_pose_weight("surprise", 1.0)
+    before = viewport_image(window)
+    packed = []
+    real = WdvSetup.pack_slots
+    monkeypatch.setattr(WdvSetup, "pack_slots",
+                        lambda self, *a, **k: packed.append(1) or real(self, *a, **k))
+    window.doc.set_expression_factor(0.3)
+    after = viewport_image(window)
+    assert not packed
+    assert (np.abs(before.astype(int) - after.astype(int)).max(axis=2) > 8).sum() > 100
 
 
 def test_save_then_open_gives_an_equal_document(window, tmp_path):

@@ -55,6 +55,11 @@ class ProjectScene:
         slots = wdv.pack_slots(self.project.mesh.n_welded, self.project.textures.map_index)
         self.renderer.set_wdv(slots, wdv.expression_factor, wdv.scale_free)
 
+    def reload_wdv_settings(self) -> None:
+        """The expression factor or scale-free mode changed: uniforms only, no slot repacked."""
+        self.renderer.expression_factor = float(self.project.wdv.expression_factor)
+        self.renderer.scale_free = bool(self.project.wdv.scale_free)
+
     def set_pose_weights(self, weights: Mapping[str, float]) -> bool:
         """Deform the face to these key-pose weights; linked technique-1 areas follow. The same
         weights again (a held pose) deform and upload nothing; returns whether the pose changed."""

@@ -33,7 +33,8 @@ class Document(QObject):
     areasChanged = Signal()  # technique-1 areas: added, removed, renamed, reordered, links
     masksChanged = Signal()  # technique-1 mask stack replaced (size or count changed)
     maskRegionChanged = Signal(int, int, int, int, int)  # layer, x, y, w, h (image pixels)
-    wdvChanged = Signal()  # technique-2 areas, vectors, cone angles, expression factor
+    wdvChanged = Signal()  # technique-2 areas, vectors, cone angles
+    wdvSettingsChanged = Signal()  # technique 2's expression factor (a uniform, not the slots)
     selectionChanged = Signal()  # selected vertices (welded indices)
     timelineChanged = Signal()  # keys, interpolation, range, frame rate
     playheadChanged = Signal()  # the current time
@@ -158,7 +159,7 @@ class Document(QObject):
 
         def apply(v: float) -> None:
             wdv.expression_factor = v
-            self.wdvChanged.emit()
+            self.wdvSettingsChanged.emit()
 
         key = None if gesture is None else ("expression", gesture)
         self._push("Expression factor", lambda: wdv.expression_factor, apply, float(value), key)

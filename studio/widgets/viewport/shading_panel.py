@@ -79,8 +79,8 @@ class ShadingPanel(QWidget):
         t2_form.addRow(self.cone)
         layout.addWidget(t2_box)
         layout.addStretch(1)
-        for signal in (document.viewChanged, document.wdvChanged, document.projectReplaced,
-                       document.currentWdvAreaChanged):
+        for signal in (document.viewChanged, document.wdvChanged, document.wdvSettingsChanged,
+                       document.projectReplaced, document.currentWdvAreaChanged):
             signal.connect(self._show_values)
         self._show_values()
 

@@ -97,6 +97,7 @@ class Viewport(QOpenGLWidget):
         d.masksChanged.connect(lambda: self._invalidate("masks"))
         d.maskRegionChanged.connect(self._mask_region_changed)
         d.wdvChanged.connect(lambda: self._invalidate("wdv"))
+        d.wdvSettingsChanged.connect(lambda: self._invalidate("wdv settings"))
         d.viewChanged.connect(self._update_labels)
         d.viewChanged.connect(self.update)
         d.cameraChanged.connect(self.update)
@@ -146,6 +147,8 @@ class Viewport(QOpenGLWidget):
             scene.reload_activations()
         if "wdv" in pending:
             scene.reload_wdv()
+        elif "wdv settings" in pending:  # a uniform: the slots stay as they are
+            scene.reload_wdv_settings()
         self._pending = set()
 
     def paintGL(self) -> None:
