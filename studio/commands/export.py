@@ -23,8 +23,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.export import export_folder
     from studio.core.errors import StudioError
+    from studio.core.export import export_folder
     from studio.core.gltf import save_gltf
     from studio.core.layout_export import export_layout
     from studio.core.layout_plan import LayoutError

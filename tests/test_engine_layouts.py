@@ -1,0 +1,219 @@
+"""Engine layouts out (``export --layout``): every texture and channel the sheet claims is read
+back with PIL and compared with the areas it names; the names are the engines' own; a project an
+engine cannot hold is refused before anything is written."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from studio.core.engine_layouts import LAYOUTS
+from studio.core.errors import StudioError
+from studio.core.influence import InfluenceArea
+from studio.core.layout_export import SHEET, export_layout
+from studio.core.layout_plan import LayoutError
+from studio.core.poses import KeyPose
+from studio.core.project import Project
+from studio.core.project_file import save_project
+from studio.core.sample import make_sample
+from studio.core.timeline import Timeline
+from studio.core.wdv import WdvSetup
+
+# the sample's areas, linked to ARKit poses as a capture rig would drive them
+ARKIT_LINKS = {
+    "browInnerUp": {"forehead right": 1.0, "forehead left": 1.0},
+    "browDown_L": {"between brows": 1.0},
+    "eyeSquint_L": {"eye corner left": 1.0, "under eye left": 0.5},
+    "eyeSquint_R": {"eye corner right": 1.0, "under eye right": 0.5},
+    "mouthSmile_R": {"cheeks": 1.0},
+}
+
+
+def arkit_face() -> Project:
+    """The small sample face with its five key poses renamed to the ARKit shapes above."""
+    project = make_sample(561, texture_size=64, mask_size=32)
+    project.poses = [KeyPose(name, pose.positions)
+                     for name, pose in zip(ARKIT_LINKS, project.poses, strict=True)]
+    project.timeline = Timeline()
+    project.wdv = WdvSetup()  # technique 2 is not part of a layout
+    project.influence.links = {pose: dict(gains) for pose, gains in ARKIT_LINKS.items()}
+    return project
+
+
+def pil_pixels(path: Path) -> np.ndarray:
+    """The file's pixels as PIL reads them (RGBA, 8-bit)."""
+    with Image.open(path) as image:
+        return np.asarray(image.convert("RGBA"))
+
+
+def expected_channel(project: Project, sources: list[dict]) -> np.ndarray:
+    """What a channel must hold: the named areas' masks × gains, added, clamped, 8-bit."""
+    masks = {a.name: a.mask for a in project.influence.areas}
+    total = sum((masks[s["area"]] * s["gain"] for s in sources), np.zeros((32, 32)))
+    return np.round(np.clip(total, 0, 1) * 255).astype(np.uint8)
+
+
+def check_sheet_against_files(project: Project, folder: Path) -> dict:
+    """Every mask texture channel holds exactly the areas the sheet says; returns the sheet."""
+    sheet = json.loads((folder / SHEET).read_text())
+    for texture in sheet["mask_textures"]:
+        pixels = pil_pixels(folder / texture["file"])
+        for c, channel in enumerate("RGBA"):
+            claimed = texture["channels"].get(channel, {"areas": []})["areas"]
+            assert np.array_equal(pixels[:, :, c], expected_channel(project, claimed)), \
+                f"{texture['file']} {channel}"
+    return sheet
+
+
+@pytest.mark.parametrize("key", list(LAYOUTS))
+def test_each_channel_holds_the_areas_its_sheet_names(key, tmp_path):
+    project = arkit_face()
+    plan, files = export_layout(project, tmp_path, key)
+    sheet = check_sheet_against_files(project, tmp_path)
+    assert sheet["layout"] == key and sheet["samplers"] == plan.samplers
+    assert all(path.is_file() for path in files)
+    placed = {a["area"] for a in sheet["areas"] if a["channels"]}
+    flexed = {s["area"] for f in sheet["flexes"] for s in f["areas"]}
+    unassigned = {u["area"] for u in sheet["unassigned"]}
+    # every area is somewhere, or said not to be
+    assert placed | flexed | unassigned == {a.name for a in project.influence.areas}
+
+
+def test_the_sheet_names_the_engines_regions(tmp_path):
+    project = arkit_face()
+    export_layout(project, tmp_path / "mh", "metahuman")
+    mh = json.loads((tmp_path / "mh" / SHEET).read_text())
+    where = {a["area"]: {(c["texture"], c["channel"], c["region"]) for c in a["channels"]}
+             for a in mh["areas"]}
+    # a central pose on a sided pair: each side's area in its own half
+    assert where["forehead left"] == {("T_head_wm1_msk_01", "B", "head_wm1_browsRaiseInner_L")}
+    assert where["forehead right"] == {("T_head_wm1_msk_01", "A", "head_wm1_browsRaiseInner_R")}
+    assert where["between brows"] == {("T_head_wm2_msk_01", "R", "head_wm2_browsLateral_L")}
+    assert where["cheeks"] == {("T_head_wm3_msk_02", "A", "head_wm3_smile_R")}
+    assert [m["name"] for m in mh["wrinkle_maps"]] == ["head_wm1_normal", "head_wm2_normal",
+                                                       "head_wm3_normal"]
+    export_layout(project, tmp_path / "cc", "cc")
+    cc = json.loads((tmp_path / "cc" / SHEET).read_text())
+    sets = {t["texture"]: t["channels"] for t in cc["mask_textures"]}
+    assert list(sets) == ["_WrinkleMaskSet1A", "_WrinkleMaskSet1B", "_WrinkleMaskSet2",
+                          "_WrinkleMaskSet3", "_WrinkleMaskSet123"]
+    # Character Creator shares a channel between the sides
+    inner = sets["_WrinkleMaskSet1A"]["G"]
+    assert inner["region"] == "head_wm1_normal_head_wm1_browRaiseInner"
+    assert {a["area"] for a in inner["areas"]} == {"forehead left", "forehead right"}
+    assert sets["_WrinkleMaskSet3"]["A"]["region"] == "head_wm3_normal_head_wm3_smile"
+    export_layout(project, tmp_path / "o3de", "o3de")
+    assert (tmp_path / "o3de" / "face_wrinklemasks" / "mouthSmile_R_wrinklemask.tif").is_file()
+
+
+def test_o3de_masks_follow_the_links_gains_per_wrinkle_layer(tmp_path):
+    project = arkit_face()
+    export_layout(project, tmp_path, "o3de")
+    squint = pil_pixels(tmp_path / "face_wrinklemasks" / "eyeSquint_L_wrinklemask.tif")
+    areas = {a.name: a for a in project.influence.areas}
+    layer = project.textures.map_index(areas["eye corner left"].wrinkle_map)
+    want = np.clip(areas["eye corner left"].mask + 0.5 * areas["under eye left"].mask, 0, 1)
+    assert np.array_equal(squint[:, :, layer], np.round(want * 255).astype(np.uint8))
+    assert not squint[:, :, [c for c in range(4) if c != layer]].any()
+
+
+def test_source_flex_weights_per_vertex_and_one_compress_map(tmp_path):
+    project = arkit_face()
+    export_layout(project, tmp_path, "source")
+    with open(tmp_path / "flex_wrinkles.csv", newline="") as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0] == ["vertex", *ARKIT_LINKS]
+    assert len(rows) == 1 + project.mesh.n_vertices
+    # the brow flex's weight at each vertex: the forehead masks under its UV (nearest texel)
+    uv = project.mesh.uvs
+    r = np.clip(((1 - uv[:, 1]) * 32).astype(int), 0, 31)
+    c = np.clip((uv[:, 0] * 32).astype(int), 0, 31)
+    areas = {a.name: a.mask for a in project.influence.areas}
+    want = np.clip(areas["forehead right"][r, c] + areas["forehead left"][r, c], 0, 1)
+    got = np.array([float(row[1]) for row in rows[1:]])
+    np.testing.assert_allclose(got, want, atol=5e-5)
+    assert got.max() > 0.5
+    sheet = json.loads((tmp_path / SHEET).read_text())
+    assert [m["name"] for m in sheet["wrinkle_maps"]] == ["bumpcompress", "bumpstretch"]
+    assert all(f["wrinkle_scale"] > 0 for f in sheet["flexes"])  # compression, never stretch
+
+
+def test_a_wrinkle_map_slot_shows_each_areas_own_map(tmp_path):
+    """The sample's forehead reveals the brow map and the eye corners another; MetaHuman's wm1
+    holds both, each texel from the map of the area strongest there, neutral elsewhere."""
+    project = arkit_face()
+    export_layout(project, tmp_path, "metahuman")
+    wm1 = np.asarray(Image.open(tmp_path / "maps" / "head_wm1_normal.png").convert("RGB"))
+    areas = {a.name: a for a in project.influence.areas}
+    textures = project.textures
+    scale = wm1.shape[0] // 32
+    forehead = areas["forehead left"].mask
+    y, x = np.unravel_index(np.argmax(forehead), forehead.shape)
+    brow = textures.wrinkle_maps[areas["forehead left"].wrinkle_map]
+    ty, tx = y * scale, x * scale
+    assert np.array_equal(wm1[ty, tx], brow[ty, tx, :3])
+    corner = areas["eye corner left"]
+    y, x = np.unravel_index(np.argmax(corner.mask), corner.mask.shape)
+    eyes = textures.wrinkle_maps[corner.wrinkle_map]
+    assert np.array_equal(wm1[y * scale, x * scale], eyes[y * scale, x * scale, :3])
+    assert corner.wrinkle_map != areas["forehead left"].wrinkle_map
+    assert np.array_equal(wm1[0, 0], textures.normal_neutral[0, 0, :3])  # no area there
+
+
+def test_an_area_no_region_fits_is_reported(tmp_path):
+    project = arkit_face()
+    project.influence.areas.append(InfluenceArea("tongue", np.ones((32, 32), np.float32)))
+    project.influence.links["tongueOut"] = {"tongue": 1.0}
+    plan, _ = export_layout(project, tmp_path, "metahuman")
+    assert [area for area, _ in plan.unassigned] == ["tongue"]
+    sheet = check_sheet_against_files(project, tmp_path)
+    (said,) = sheet["unassigned"]
+    assert said["area"] == "tongue" and "metahuman" in said["why"]
+
+
+def test_more_morph_target_masks_than_o3de_blends_is_refused(tmp_path):
+    project = arkit_face()
+    for i in range(17 - len(ARKIT_LINKS)):
+        project.influence.links[f"extra_{i}"] = {"cheeks": 1.0}
+    with pytest.raises(LayoutError, match="17 wrinkle masks, more than the 16"):
+        export_layout(project, tmp_path / "out", "o3de")
+    assert not (tmp_path / "out").exists()
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "studio.cli", *args], capture_output=True,
+                          text=True, cwd=Path(__file__).parents[1], timeout=300)
+
+
+def test_too_many_areas_for_a_layout_is_one_line_and_writes_nothing(tmp_path):
+    project = arkit_face()
+    project.influence.areas += [InfluenceArea(f"extra {i}", np.zeros((32, 32), np.float32))
+                                for i in range(61 - len(project.influence.areas))]
+    save_project(project, tmp_path / "crowded.wrinkle")
+    out = tmp_path / "out"
+    done = run_cli("export", str(tmp_path / "crowded.wrinkle"), "--layout", "studio",
+                   "--folder", str(out))
+    assert done.returncode == 2 and done.stdout == ""
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(tmp_path / "crowded.wrinkle") in lines[0]
+    # 61 areas: 16 packed textures, and the sample's 2 wrinkled maps
+    assert "needs 18 samplers, more than the 16" in lines[0]
+    assert not out.exists()
+
+
+def test_a_layout_never_writes_over_its_input(tmp_path):
+    project = arkit_face()
+    target = tmp_path / "face.glb"  # the name the layout gives its model
+    save_project(project, target)
+    before = target.read_bytes()
+    with pytest.raises(StudioError, match="overwrite the input"):
+        export_layout(project, tmp_path, "metahuman", inputs=[target])
+    assert target.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["face.glb"]
