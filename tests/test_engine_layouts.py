@@ -56,7 +56,8 @@ def pil_pixels(path: Path) -> np.ndarray:
 def expected_channel(project: Project, sources: list[dict]) -> np.ndarray:
     """What a channel must hold: the named areas' masks × gains, added, clamped, 8-bit."""
     masks = {a.name: a.mask for a in project.influence.areas}
-    total = sum((masks[s["area"]] * s["gain"] for s in sources), np.zeros((32, 32)))
+    shape = project.influence.areas[0].mask.shape
+    total = sum((masks[s["area"]] * s["gain"] for s in sources), np.zeros(shape))
     return np.round(np.clip(total, 0, 1) * 255).astype(np.uint8)
 
 
@@ -217,3 +218,50 @@ def test_a_layout_never_writes_over_its_input(tmp_path):
         export_layout(project, tmp_path, "metahuman", inputs=[target])
     assert target.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["face.glb"]
+
+
+@pytest.fixture(scope="module")
+def production_head(tmp_path_factory) -> tuple[Path, Project]:
+    """A head in production conventions (mm, Z up, UDIM tiles, ARKit names) set up by
+    ``new --auto``, as tests/test_production_head.py imports it."""
+    from studio.cli import main
+    from studio.core.project_file import load_project
+    from tests.test_production_head import import_head
+
+    folder = tmp_path_factory.mktemp("head")
+    _, args = import_head(folder)
+    assert main(args) == 0
+    path = folder / "mm.wrinkle"
+    return path, load_project(path)
+
+
+@pytest.mark.parametrize("key", list(LAYOUTS))
+def test_a_production_head_exports_in_every_layout(production_head, key, tmp_path):
+    path, project = production_head
+    out = tmp_path / key
+    done = run_cli("export", str(path), "--layout", key, "--folder", str(out))
+    assert done.returncode == 0, done.stderr
+    assert f"{LAYOUTS[key].label}: " in done.stdout
+    sheet = check_sheet_against_files(project, out)
+    assert project.skin_tiles() == [1001]
+    layout = project.uv_tiles.layout
+    for texture in sheet["mask_textures"]:  # the skin tile's own square beside each atlas
+        atlas = out / texture["file"]
+        tile = atlas.with_name(f"{atlas.stem}.1001{atlas.suffix}")
+        assert np.array_equal(pil_pixels(tile), layout.crop(pil_pixels(atlas), 1001))
+    placed = {a["area"]: {c["region"] for c in a["channels"]} for a in sheet["areas"]}
+    expected = {"metahuman": {"browDown_L": "head_wm2_browsLateral_L",
+                              "mouthSmile_R": "head_wm3_smile_R",
+                              "eyeSquint_L": "head_wm1_squintInner_L"},
+                "cc": {"browDown_L": "head_wm2_normal_head_wm2_browsDown",
+                       "mouthSmile_R": "head_wm3_normal_head_wm3_smile"}}.get(key, {})
+    for area, region in expected.items():
+        assert placed[area] == {region}, area
+    if key == "metahuman":  # the pose of the middle of the face fills both halves of its pair
+        assert placed["browInnerUp"] == {"head_wm1_browsRaiseInner_L",
+                                         "head_wm1_browsRaiseInner_R"}
+    if key == "o3de":
+        masks = {t["texture"] for t in sheet["mask_textures"]}
+        assert {"browInnerUp", "mouthSmile_L", "eyeSquint_R"} <= masks
+    if key == "source":
+        assert {"browDown_L", "mouthSmile_L"} <= {f["flex"] for f in sheet["flexes"]}

@@ -93,7 +93,7 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
     for k, rgba in enumerate(packed_masks(project)):
         path = folder / "masks" / f"packed_{k:02d}.png"
         write_png(path, rgba)
-        written.append(path)
+        written += [path, *tile_copies(project, path, rgba)]
         layout.append({"image": path.name, "channels": [a.name for a in areas[4 * k:4 * k + 4]]})
     textures = project.textures
     maps = []
