@@ -114,6 +114,21 @@ def test_the_sheet_names_the_engines_regions(tmp_path):
     assert (tmp_path / "o3de" / "face_wrinklemasks" / "mouthSmile_R_wrinklemask.tif").is_file()
 
 
+def test_a_second_area_of_a_pose_takes_the_next_free_region(tmp_path):
+    """browDown drives two MetaHuman regions: the first area fills browsLateral, the next
+    browsDown; a third has no free region left and is added into the first."""
+    project = arkit_face()
+    for name in ("brow lower left", "brow knot left"):
+        project.influence.areas.append(InfluenceArea(name, np.full((32, 32), 0.25, np.float32)))
+        project.influence.links["browDown_L"][name] = 1.0
+    export_layout(project, tmp_path, "metahuman")
+    sheet = check_sheet_against_files(project, tmp_path)
+    where = {a["area"]: [c["region"] for c in a["channels"]] for a in sheet["areas"]}
+    assert where["between brows"] == ["head_wm2_browsLateral_L"]
+    assert where["brow lower left"] == ["head_wm2_browsDown_L"]
+    assert where["brow knot left"] == ["head_wm2_browsLateral_L"]
+
+
 def test_o3de_masks_follow_the_links_gains_per_wrinkle_layer(tmp_path):
     project = arkit_face()
     export_layout(project, tmp_path, "o3de")
@@ -151,21 +166,26 @@ def test_a_wrinkle_map_slot_shows_each_areas_own_map(tmp_path):
     holds both, each texel from the map of the area strongest there, neutral elsewhere."""
     project = arkit_face()
     export_layout(project, tmp_path, "metahuman")
-    wm1 = np.asarray(Image.open(tmp_path / "maps" / "head_wm1_normal.png").convert("RGB"))
+    sheet = json.loads((tmp_path / SHEET).read_text())
+    slot = next(m for m in sheet["wrinkle_maps"] if m["name"] == "head_wm1_normal")
+    wm1 = pil_pixels(tmp_path / slot["file"])[:, :, :3]
     areas = {a.name: a for a in project.influence.areas}
     textures = project.textures
-    scale = wm1.shape[0] // 32
-    forehead = areas["forehead left"].mask
-    y, x = np.unravel_index(np.argmax(forehead), forehead.shape)
-    brow = textures.wrinkle_maps[areas["forehead left"].wrinkle_map]
-    ty, tx = y * scale, x * scale
-    assert np.array_equal(wm1[ty, tx], brow[ty, tx, :3])
-    corner = areas["eye corner left"]
-    y, x = np.unravel_index(np.argmax(corner.mask), corner.mask.shape)
-    eyes = textures.wrinkle_maps[corner.wrinkle_map]
-    assert np.array_equal(wm1[y * scale, x * scale], eyes[y * scale, x * scale, :3])
-    assert corner.wrinkle_map != areas["forehead left"].wrinkle_map
-    assert np.array_equal(wm1[0, 0], textures.normal_neutral[0, 0, :3])  # no area there
+    assert len({areas[name].wrinkle_map for name in slot["areas"]}) == 2
+    stack = np.stack([areas[name].mask for name in slot["areas"]])
+    scale = wm1.shape[0] // stack.shape[1]
+    for k, name in enumerate(slot["areas"]):  # where the area is the strongest of the slot
+        lead = np.where(stack.argmax(axis=0) == k, stack[k], 0)
+        y, x = np.unravel_index(np.argmax(lead), lead.shape)
+        assert lead[y, x] > 0.5
+        own = textures.wrinkle_maps[areas[name].wrinkle_map]
+        assert np.array_equal(wm1[y * scale, x * scale], own[y * scale, x * scale, :3]), name
+    # where no area of the slot reaches, the neutral map (not the wrinkled maps' folds)
+    none = np.kron(stack.max(axis=0) == 0, np.ones((scale, scale), bool))
+    first = textures.wrinkle_maps[areas[slot["areas"][0]].wrinkle_map][:, :, :3]
+    folds = none & (first != textures.normal_neutral[:, :, :3]).any(axis=2)
+    assert folds.any()
+    assert np.array_equal(wm1[none], textures.normal_neutral[:, :, :3][none])
 
 
 def test_an_area_no_region_fits_is_reported(tmp_path):
