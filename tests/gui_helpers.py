@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QPoint, Qt
+from PySide6.QtCore import QPoint, Qt, QTimer
 from PySide6.QtGui import QImage
-from PySide6.QtWidgets import QSlider
+from PySide6.QtWidgets import QApplication, QDialogButtonBox, QSlider
 
 from tests.regions import landmark_pixels
 
@@ -38,3 +38,24 @@ def drag_slider(qtbot, slider: QSlider, fraction: float) -> None:
     for i in range(1, 11):
         qtbot.mouseMove(slider, QPoint(start.x() + (end.x() - start.x()) * i // 10, y))
     qtbot.mouseRelease(slider, Qt.MouseButton.LeftButton, pos=end)
+
+
+def fill_export_dialog(qtbot, seen: list, folder, presses: list[Qt.Key]) -> None:
+    """When the dialog opens: pick the layout with the keyboard, type the folder, click Export."""
+    def act() -> None:
+        from studio.widgets.engine_export_dialog import EngineExportDialog
+
+        dialog = QApplication.activeModalWidget()
+        assert isinstance(dialog, EngineExportDialog)
+        seen.append([dialog.layout_choice.itemText(i)
+                     for i in range(dialog.layout_choice.count())])
+        dialog.layout_choice.setFocus()
+        for key in presses:
+            qtbot.keyClick(dialog.layout_choice, key)
+        qtbot.mouseClick(dialog.folder, Qt.MouseButton.LeftButton)
+        qtbot.keyClick(dialog.folder, Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
+        qtbot.keyClicks(dialog.folder, str(folder))
+        export = dialog.buttons.button(QDialogButtonBox.StandardButton.Ok)
+        qtbot.mouseClick(export, Qt.MouseButton.LeftButton)
+
+    QTimer.singleShot(0, act)

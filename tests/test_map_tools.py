@@ -8,7 +8,7 @@ from PySide6.QtWidgets import QFileDialog, QInputDialog
 
 from studio.core.files.images import write_png
 from studio.core.project.gltf import load_gltf
-from tests.gui_helpers import viewport_image, viewport_marks
+from tests.gui_helpers import fill_export_dialog, viewport_image, viewport_marks
 from tests.regions import region_difference
 
 
@@ -57,15 +57,14 @@ def test_a_bad_image_is_reported_by_name(window, monkeypatch, tmp_path, dialogs)
 
 
 @pytest.mark.parametrize("kind", ["gltf", "folder"])
-def test_export_from_the_file_menu(window, monkeypatch, tmp_path, kind):
+def test_export_from_the_file_menu(window, monkeypatch, tmp_path, kind, qtbot):
     if kind == "gltf":
         monkeypatch.setattr(QFileDialog, "getSaveFileName",
                             staticmethod(lambda *a, **k: (str(tmp_path / "out.glb"), "")))
         window.map_tools.export_gltf()
         glb = tmp_path / "out.glb"
     else:
-        monkeypatch.setattr(QFileDialog, "getExistingDirectory",
-                            staticmethod(lambda *a, **k: str(tmp_path / "engine")))
+        fill_export_dialog(qtbot, [], tmp_path / "engine", [])  # the studio's own layout
         window.map_tools.export_folder()
         glb = tmp_path / "engine" / "face.glb"
         assert (tmp_path / "engine" / "wrinkles.json").exists()

@@ -81,7 +81,7 @@ def test_the_canvas_shows_the_tiles_and_a_stroke_lands_in_the_skin_tile(
 
     # the engine export writes the skin tile's own mask, in its own 0–1 square
     export_folder(window.doc.project, tmp_path / "out")
-    tile_png = next((tmp_path / "out" / "masks").glob("*.1001.png"))
+    tile_png = next((tmp_path / "out" / "masks").glob("[0-9][0-9]_*.1001.png"))
     tile_mask = read_image(tile_png).astype(np.float32) / 65535.0
     assert tile_mask.shape == (y1 - y0, x1 - x0)
     assert tile_mask.max() > 0.3

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from studio.core.engines.layouts import LAYOUTS
+
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("export", help="export a project as glTF, or a folder for an engine")
@@ -13,16 +15,25 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     target.add_argument("--gltf", help="binary glTF file to write (.glb)")
     target.add_argument("--folder", help="folder for face.glb, mask PNGs, wrinkles.json, GLSL")
     p.add_argument("--bits", type=int, choices=(8, 16), default=16, help="per-area mask depth")
+    p.add_argument("--layout", choices=list(LAYOUTS),
+                   help="with --folder: repack masks and wrinkle maps the way that engine's "
+                        "shader samples them, with a JSON sheet of its names (see "
+                        "docs/engines/)")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    from studio.core.engines.export import export_layout
+    from studio.core.engines.plan import LayoutError
+    from studio.core.files.errors import StudioError
     from studio.core.files.safe_io import check_output
     from studio.core.project.export import export_folder
     from studio.core.project.gltf import save_gltf
     from studio.core.project.reader import load_project
 
     if args.gltf:
+        if args.layout:
+            raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
         check_output(args.gltf, [args.project], what="glTF file")
     else:
         check_output(args.folder, [args.project], make_folders=True, what="folder")
@@ -30,6 +41,16 @@ def run(args: argparse.Namespace) -> int:
     if args.gltf:
         save_gltf(project, Path(args.gltf))
         print(f"wrote {args.gltf}")
+    elif args.layout:
+        try:
+            plan, files = export_layout(project, args.folder, args.layout, args.bits,
+                                        inputs=[args.project])
+        except LayoutError as exc:  # the project does not fit the engine: say which project
+            raise StudioError(exc.problem, args.project) from None
+        print(f"wrote {len(files)} files to {args.folder} ({plan.layout.label}: "
+              f"{plan.samplers} samplers)")
+        for area, why in plan.unassigned:
+            print(f"not exported: area '{area}': {why}")
     else:
         files = export_folder(project, args.folder, args.bits)
         print(f"wrote {len(files)} files to {args.folder}")

@@ -88,3 +88,18 @@ def write_png(path: str | Path, image: Array) -> None:
     from studio.core.files.atomic_write import write_atomic
 
     write_atomic(path, encode_png(image), ImageError, what="image")
+
+
+def write_tiff(path: str | Path, image: Array) -> None:
+    """An 8-bit image as an uncompressed TIFF, all or nothing: O3DE's model builder finds a
+    morph target's wrinkle mask only as a ``.tif`` file."""
+    from studio.core.files.atomic_write import write_atomic
+
+    buffer = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(image, np.uint8)).save(buffer, format="TIFF")
+    write_atomic(path, buffer.getvalue(), ImageError, what="image")
+
+
+def write_image(path: str | Path, image: Array) -> None:
+    """PNG, or TIFF for a ``.tif`` name."""
+    (write_tiff if Path(path).suffix.lower() in (".tif", ".tiff") else write_png)(path, image)

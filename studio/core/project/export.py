@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import numpy as np
 
+from studio.core.files.atomic_write import write_atomic
 from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
 from studio.core.project.gltf import save_gltf
@@ -25,6 +26,12 @@ def safe_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9._-]+", "_", name).strip("_") or "area"
 
 
+def quantise(values: np.ndarray, bits: int = 8) -> np.ndarray:
+    """Unit-range values as 8- or 16-bit integers (rounded, clamped), as PNGs store them."""
+    scale, dtype = (65535.0, np.uint16) if bits == 16 else (255.0, np.uint8)
+    return np.round(np.clip(values, 0, 1) * scale).astype(dtype)
+
+
 def packed_masks(project: Project) -> list[np.ndarray]:
     """Areas four at a time in R, G, B, A (8-bit); unused channels are 0."""
     areas = project.influence.areas
@@ -34,56 +41,70 @@ def packed_masks(project: Project) -> list[np.ndarray]:
         h, w = group[0].shape
         rgba = np.zeros((h, w, 4), np.uint8)
         for c, mask in enumerate(group):
-            rgba[:, :, c] = np.round(np.clip(mask, 0, 1) * 255.0)
+            rgba[:, :, c] = quantise(mask)
         images.append(rgba)
     return images
+
+
+def tile_copies(project: Project, path: Path, image: np.ndarray,
+                write: Callable[[Path, np.ndarray], None] = write_png) -> list[Path]:
+    """A UDIM face's atlas image cut back into each skin tile's own 0–1 square, written as
+    ``NAME.<tile>.ext`` beside ``path`` (as tools that read UDIM sets expect); none for a face
+    on one tile."""
+    written = []
+    for tile in project.skin_tiles():
+        target = path.with_name(f"{path.stem}.{tile}{path.suffix}")
+        write(target, project.uv_tiles.layout.crop(image, tile))
+        written.append(target)
+    return written
+
+
+def make_folders(folder: Path, names: Iterable[str]) -> None:
+    """The export folder and its subfolders, as a StudioError naming the folder on failure."""
+    try:
+        for name in names:
+            (folder / name).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise StudioError(f"cannot create the export folder: {exc.strerror}", folder) from None
+
+
+def uv_tiles_note(project: Project) -> dict:
+    """The sheet's record of a UDIM face's tiles (empty for a face on one tile)."""
+    if project.uv_tiles is None:
+        return {}
+    return {"uv_tiles": {**project.uv_tiles.layout.to_dict(), "skin_tiles": project.skin_tiles(),
+                         "note": "masks and maps are atlases (the glTF's UVs); files named "
+                                 "NAME.<UDIM>.png hold each skin tile in its own 0-1 square"}}
 
 
 def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[Path]:
     """Write everything an engine needs into ``folder``; returns the files written."""
     folder = Path(folder)
-    try:
-        (folder / "masks").mkdir(parents=True, exist_ok=True)
-        (folder / "shaders").mkdir(exist_ok=True)
-        (folder / "maps").mkdir(exist_ok=True)
-    except OSError as exc:
-        raise StudioError(f"cannot create the export folder: {exc.strerror}", folder) from None
+    make_folders(folder, ("masks", "shaders", "maps"))
     written = [folder / "face.glb"]
     save_gltf(project, written[0])
-    scale, dtype = (65535.0, np.uint16) if bits == 16 else (255.0, np.uint8)
     areas = project.influence.areas
     layout = []
     for i, area in enumerate(areas):
         path = folder / "masks" / f"{i:02d}_{safe_name(area.name)}.png"
-        write_png(path, np.round(np.clip(area.mask, 0, 1) * scale).astype(dtype))
-        written.append(path)
-    tiles = project.skin_tiles()
-    for i, area in enumerate(areas):  # a UDIM face: each skin tile's part, as tools expect
-        for tile in tiles:
-            path = folder / "masks" / f"{i:02d}_{safe_name(area.name)}.{tile}.png"
-            crop = project.uv_tiles.layout.crop(area.mask, tile)
-            write_png(path, np.round(np.clip(crop, 0, 1) * scale).astype(dtype))
-            written.append(path)
+        image = quantise(area.mask, bits)
+        write_png(path, image)
+        written += [path, *tile_copies(project, path, image)]
     for k, rgba in enumerate(packed_masks(project)):
         path = folder / "masks" / f"packed_{k:02d}.png"
         write_png(path, rgba)
-        written.append(path)
+        written += [path, *tile_copies(project, path, rgba)]
         layout.append({"image": path.name, "channels": [a.name for a in areas[4 * k:4 * k + 4]]})
     textures = project.textures
     maps = []
     for i, (name, image) in enumerate(textures.wrinkle_maps.items()):
         path = folder / "maps" / f"wrinkled_{i}_{safe_name(name)}.png"
         write_png(path, image)
-        written.append(path)
+        written += [path, *tile_copies(project, path, image)]
         maps.append({"name": name, "index": i, "image": f"maps/{path.name}"})
     path = folder / "maps" / "neutral.png"
     write_png(path, textures.normal_neutral)
     written.append(path)
-    for tile in tiles:
-        for i, (name, image) in enumerate(textures.wrinkle_maps.items()):
-            path = folder / "maps" / f"wrinkled_{i}_{safe_name(name)}.{tile}.png"
-            write_png(path, project.uv_tiles.layout.crop(image, tile))
-            written.append(path)
     links = {
         "wrinkle_maps": maps,
         "areas": [{"name": a.name, "mask": f"masks/{i:02d}_{safe_name(a.name)}.png",
@@ -92,10 +113,7 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
                    "wrinkle_map": textures.map_index(a.wrinkle_map)}
                   for i, a in enumerate(areas)],
         "pose_links": project.influence.links,
-        **({"uv_tiles": {**project.uv_tiles.layout.to_dict(), "skin_tiles": tiles,
-                         "note": "masks and maps are atlases (the glTF's UVs); files named "
-                                 "NAME.<UDIM>.png hold each skin tile in its own 0-1 square"}}
-           if project.uv_tiles is not None else {}),
+        **uv_tiles_note(project),
         "packed_layout": layout,
         "wdv": {"expression_factor": project.wdv.expression_factor,
                 "scale_free": project.wdv.scale_free,
@@ -106,10 +124,10 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
                           for n, a in enumerate(project.wdv.areas)]},
     }
     path = folder / "wrinkles.json"
-    path.write_text(json.dumps(links, indent=2), encoding="utf-8")
+    write_atomic(path, json.dumps(links, indent=2).encode("utf-8"), what="link sheet")
     written.append(path)
     for name in SHADERS:
         target = folder / "shaders" / name
-        shutil.copyfile(shader_dir() / name, target)
+        write_atomic(target, (shader_dir() / name).read_bytes(), what="shader")
         written.append(target)
     return written

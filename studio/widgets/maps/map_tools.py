@@ -228,11 +228,10 @@ class MapTools:
             self._export(lambda: save_gltf(self.doc.project, Path(name)), name)
 
     def export_folder(self) -> None:
-        name = QFileDialog.getExistingDirectory(self.window, "Export for a game engine")
-        if name:
-            from studio.core.project.export import export_folder
+        """The folder and engine layout in a dialog (widgets/engine_export_dialog.py)."""
+        from studio.widgets.engine_export_dialog import open_engine_export
 
-            self._export(lambda: export_folder(self.doc.project, name), name)
+        open_engine_export(self.window)
 
     def _export(self, write, target: str) -> None:
         try:
