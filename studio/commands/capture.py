@@ -1,0 +1,48 @@
+"""``wrinkle-studio capture``: an ARKit blend-shape take (Live Link Face CSV) keyed onto a
+project's timeline, as File ▸ Import Capture… does in the studio (studio/core/capture.py)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+
+def parse_fps(text: str) -> float:
+    try:
+        fps = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not 0 < fps <= 1000:
+        raise argparse.ArgumentTypeError(f"{text}: the frame rate must be above 0, at most 1000")
+    return fps
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("capture", help="key a facial capture take onto a project's timeline")
+    p.add_argument("project", help="the .wrinkle project whose key poses the take drives")
+    p.add_argument("--csv", required=True, metavar="TAKE.csv",
+                   help="a Live Link Face take: Timecode, BlendShapeCount, ARKit columns")
+    p.add_argument("--fps", type=parse_fps, metavar="N",
+                   help="the timeline's frame rate to resample to (default: the project's)")
+    p.add_argument("--take-fps", type=parse_fps, metavar="N",
+                   help="the take's own frame rate (default: 60 if its timecodes reach frame "
+                        "30, else 30)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.wrinkle",
+                   help="where to write the project with the take on its timeline")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from studio.core.capture import import_capture
+    from studio.core.project_file import load_project, save_project
+    from studio.core.safe_io import check_output
+
+    check_output(args.output, [args.project, args.csv], what="project")
+    project = load_project(Path(args.project))
+    timeline, report = import_capture(args.csv, project.timeline,
+                                      [p.name for p in project.poses], args.fps, args.take_fps)
+    project.timeline = timeline
+    save_project(project, Path(args.output))
+    print("\n".join(report.lines()))
+    print(f"wrote {args.output}")
+    return 0
