@@ -24,6 +24,7 @@ from studio.widgets.app_settings import settings
 from studio.widgets.auto_tools import install_auto_tools
 from studio.widgets.autosave import install_autosave
 from studio.widgets.bake_tools import install_bake_tools
+from studio.widgets.capture_tools import install_capture_tools
 from studio.widgets.document import Document
 from studio.widgets.map_tools import install_map_tools
 from studio.widgets.mask_tools import install_mask_tools
@@ -75,6 +76,7 @@ class MainWindow(QMainWindow):
         install_map_tools(self)  # Maps menu and File ▸ Export, needs the menus
         install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
+        install_capture_tools(self)  # File ▸ Import Capture…, needs the menus and timeline
         self._arrange_docks()
         self.doc.modifiedChanged.connect(self.setWindowModified)
         self.doc.pathChanged.connect(self._update_title)

@@ -1,0 +1,68 @@
+"""File ▸ Import Capture…: a facial capture take (studio/core/capture.py) keyed onto the
+timeline as one undo step, with a report of what matched and what did not.
+
+Why a report every time: a take names its shapes in ARKit's spelling and a rig in its own, so
+which columns found a pose is the first thing a user checks; a column left out silently would
+look like a dead expression on playback.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from PySide6.QtCore import Qt
+from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtWidgets import QApplication, QFileDialog, QMessageBox
+
+from studio.core.capture import import_capture
+from studio.core.errors import StudioError
+from studio.widgets.app_settings import settings
+from studio.widgets.timeline_edits import TimelineState
+
+CAPTURE_FILTER = "Live Link Face takes (*.csv);;All files (*)"
+FOLDER_KEY = "capture/last_folder"
+
+
+def capture_folder() -> str:
+    """Where the last take came from (else the last project's folder, else home)."""
+    s = settings()
+    return str(s.value(FOLDER_KEY, s.value("last_folder", str(Path.home()))))
+
+
+def import_capture_dialog(window) -> bool:
+    """Ask for a take and key it onto the timeline; False when cancelled or refused."""
+    name, _ = QFileDialog.getOpenFileName(window, "Import capture", capture_folder(),
+                                          CAPTURE_FILTER)
+    if not name:
+        return False
+    path = Path(name)
+    settings().setValue(FOLDER_KEY, str(path.parent))
+    doc = window.doc
+    QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+    try:
+        timeline, report = import_capture(path, doc.project.timeline,
+                                          [p.name for p in doc.project.poses])
+    except StudioError as exc:
+        QApplication.restoreOverrideCursor()
+        window.show_error("Cannot import the capture", exc)
+        return False
+    window.timeline_panel.edits.push(f"Import capture {path.name}", TimelineState.of(timeline))
+    QApplication.restoreOverrideCursor()
+    QMessageBox.information(window, "Capture imported", "\n\n".join(report.lines()))
+    return True
+
+
+def install_capture_tools(window) -> QAction:
+    """File ▸ Import Capture… (Ctrl+I) after the ways to open a project; called once the menus
+    and the timeline exist."""
+    file_menu = next(a.menu() for a in window.menuBar().actions()
+                     if a.text().replace("&", "") == "File")
+    action = QAction("Import &Capture…", window)
+    action.setShortcut(QKeySequence("Ctrl+I"))
+    action.setStatusTip("Key a facial capture take (Live Link Face CSV, ARKit blend shapes) "
+                        "onto the timeline")
+    action.triggered.connect(lambda: import_capture_dialog(window))
+    first_separator = next((a for a in file_menu.actions() if a.isSeparator()), None)
+    file_menu.insertAction(first_separator, action)
+    window.import_capture_action = action
+    return action
