@@ -21,10 +21,12 @@ from studio.cli import main
 from studio.core.capture import (
     CaptureError,
     apply_take,
+    import_capture,
     match_columns,
     read_live_link_csv,
     reduce_keys,
 )
+from studio.core.errors import StudioError
 from studio.core.project_file import load_project
 from studio.core.timeline import Key, Timeline, Track
 from tests.production_head import POSES, build_head
@@ -284,3 +286,69 @@ def test_capture_error_names_the_file(tmp_path):
     with pytest.raises(CaptureError, match="not below the take's rate of 60 fps") as info:
         read_live_link_csv(tmp_path / "t.csv")
     assert info.value.path == tmp_path / "t.csv"
+
+
+# --- a glTF animation of morph weights ------------------------------------------------------
+
+GLTF_TARGETS = ["browInnerUp", "browDown_L", "jawOpen", "tongueOut"]
+
+
+def write_gltf_take(path: Path, times: np.ndarray, weights: np.ndarray,
+                    interpolation: str = "LINEAR") -> None:
+    """A .gltf (data-URI buffer) whose one animation drives the weights of a mesh's four morph
+    targets, named in ``mesh.extras.targetNames``."""
+    import base64
+    import json
+
+    data = times.astype("<f4").tobytes() + weights.astype("<f4").tobytes()
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+           "nodes": [{"mesh": 0}],
+           "meshes": [{"name": "head", "extras": {"targetNames": GLTF_TARGETS},
+                       "primitives": [{"attributes": {}, "targets": [{}] * 4}]}],
+           "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64,"
+                        + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteLength": 4 * len(times)},
+                           {"buffer": 0, "byteOffset": 4 * len(times),
+                            "byteLength": 4 * weights.size}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": len(times),
+                          "type": "SCALAR"},
+                         {"bufferView": 1, "componentType": 5126, "count": weights.size,
+                          "type": "SCALAR"}],
+           "animations": [{"samplers": [{"input": 0, "output": 1,
+                                         "interpolation": interpolation}],
+                           "channels": [{"sampler": 0,
+                                         "target": {"node": 0, "path": "weights"}}]}]}
+    path.write_text(json.dumps(doc))
+
+
+def test_a_gltf_weights_animation_lands_like_a_csv_take(tmp_path, head_project):
+    times = 0.5 + np.arange(49) / 24.0  # two seconds of keys, the first at 0.5 s
+    weights = np.stack([curve(k, times) for k in range(4)], axis=1)
+    write_gltf_take(tmp_path / "take.gltf", times, weights)
+    out = tmp_path / "out.wrinkle"
+    printed = io.StringIO()
+    with redirect_stdout(printed):
+        assert main(["capture", str(head_project), "--gltf", str(tmp_path / "take.gltf"),
+                     "-o", str(out)]) == 0
+    assert "columns without a pose (1): tongueOut" in printed.getvalue()
+    timeline = load_project(out).timeline
+    frames = np.arange(int(2.0 * timeline.fps) + 1)
+    for k, pose in enumerate(["browInnerUp", "browDown_L", "jawOpen"]):
+        track = next(tr for tr in timeline.tracks if tr.pose == pose)
+        known = np.interp(0.5 + frames / timeline.fps, times, weights[:, k].astype("f4"))
+        assert np.abs(track.values_at(frames) - known).max() <= 1 / 255
+
+
+def test_a_step_gltf_animation_holds_and_a_cubic_one_is_refused(tmp_path):
+    times = np.array([0.0, 1.0, 2.0])
+    weights = np.array([[0.0, 0.2, 0.4, 0.6], [1.0, 0.2, 0.4, 0.6], [0.5, 0.2, 0.4, 0.6]])
+    write_gltf_take(tmp_path / "step.gltf", times, weights, "STEP")
+    timeline, _ = import_capture(tmp_path / "step.gltf", Timeline(fps=10.0), ["browInnerUp"])
+    track = timeline.tracks[0]
+    assert list(track.values_at([0, 5, 9, 10, 15, 19, 20])) == pytest.approx(
+        [0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.5], abs=1 / 255)
+    write_gltf_take(tmp_path / "cubic.gltf", times, np.repeat(weights, 3, axis=0),
+                    "CUBICSPLINE")
+    with pytest.raises(StudioError, match="CUBICSPLINE") as info:
+        import_capture(tmp_path / "cubic.gltf", Timeline(), ["browInnerUp"])
+    assert str(tmp_path / "cubic.gltf") in str(info.value)

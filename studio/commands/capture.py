@@ -1,5 +1,6 @@
-"""``wrinkle-studio capture``: an ARKit blend-shape take (Live Link Face CSV) keyed onto a
-project's timeline, as File ▸ Import Capture… does in the studio (studio/core/capture.py)."""
+"""``wrinkle-studio capture``: an ARKit blend-shape take (Live Link Face CSV, or a glTF animation
+of morph weights) keyed onto a project's timeline, as File ▸ Import Capture… does in the studio
+(studio/core/capture.py)."""
 
 from __future__ import annotations
 
@@ -20,8 +21,12 @@ def parse_fps(text: str) -> float:
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("capture", help="key a facial capture take onto a project's timeline")
     p.add_argument("project", help="the .wrinkle project whose key poses the take drives")
-    p.add_argument("--csv", required=True, metavar="TAKE.csv",
-                   help="a Live Link Face take: Timecode, BlendShapeCount, ARKit columns")
+    take = p.add_mutually_exclusive_group(required=True)
+    take.add_argument("--csv", metavar="TAKE.csv",
+                      help="a Live Link Face take: Timecode, BlendShapeCount, ARKit columns")
+    take.add_argument("--gltf", metavar="TAKE.glb",
+                      help="a glTF animation of morph weights (targets named in "
+                           "mesh.extras.targetNames)")
     p.add_argument("--fps", type=parse_fps, metavar="N",
                    help="the timeline's frame rate to resample to (default: the project's)")
     p.add_argument("--take-fps", type=parse_fps, metavar="N",
@@ -33,14 +38,16 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from studio.core.capture import import_capture
+    from studio.core.capture import apply_take, read_gltf_take, read_live_link_csv
     from studio.core.project_file import load_project, save_project
     from studio.core.safe_io import check_output
 
-    check_output(args.output, [args.project, args.csv], what="project")
+    check_output(args.output, [args.project, args.csv or args.gltf], what="project")
     project = load_project(Path(args.project))
-    timeline, report = import_capture(args.csv, project.timeline,
-                                      [p.name for p in project.poses], args.fps, args.take_fps)
+    take = (read_live_link_csv(args.csv, args.take_fps) if args.csv
+            else read_gltf_take(args.gltf))
+    timeline, report = apply_take(project.timeline, take, [p.name for p in project.poses],
+                                  args.fps)
     project.timeline = timeline
     save_project(project, Path(args.output))
     print("\n".join(report.lines()))

@@ -1,6 +1,8 @@
 """Facial capture in: an ARKit blend-shape recording onto the timeline as keyed weight curves.
 
-A take from Epic's Live Link Face app is a CSV file::
+A take is a Live Link Face CSV file or a glTF animation of morph-target weights (its channels
+targeting a mesh's ``weights``, the targets named by ``mesh.extras.targetNames``). Epic's Live
+Link Face app writes a CSV file::
 
     Timecode,BlendShapeCount,EyeBlinkLeft,EyeLookDownLeft,…,TongueOut,HeadYaw,HeadPitch,…
     14:23:07:12.345,61,0.0213,0.1,…
@@ -70,7 +72,7 @@ class Take:
     ignored: tuple[str, ...]  # head and eye rotations: not blend shapes
     times: Array  # (S,) seconds from the first sample, non-decreasing
     values: Array  # (S, C) float64, one column per entry of ``columns``
-    rate: float  # the take's own frame rate (timecode frames per second)
+    rate: float  # the take's own frame rate (timecode frames per second); 0: none (glTF)
 
     @property
     def duration(self) -> float:
@@ -95,7 +97,8 @@ class CaptureReport:
     clipped: int  # values outside 0–1, clipped
 
     def lines(self) -> list[str]:
-        out = [f"{self.path.name}: {self.samples} samples at {self.rate:g} fps, "
+        rate = f" at {self.rate:g} fps" if self.rate else ""  # a glTF's keys have no rate
+        out = [f"{self.path.name}: {self.samples} samples{rate}, "
                f"{self.duration:.3f} s → {self.frames} frames at {self.fps:g} fps, "
                f"{self.keys} keys on {len(self.matched)} tracks",
                f"matched ({len(self.matched)}): "
@@ -353,8 +356,32 @@ def apply_take(timeline: Timeline, take: Take, poses: Sequence[str], fps: float 
     return new, report
 
 
+GLTF_SUFFIXES = (".glb", ".gltf")
+
+
+def read_gltf_take(path: str | Path) -> Take:
+    """The morph-weight animation of a glTF file as a take: one column per morph target (named
+    by the mesh's ``extras.targetNames``), its keys as samples, from its first key on."""
+    from studio.core.gltf import load_weight_animation
+
+    path = Path(path)
+    names, times, values = load_weight_animation(path)
+    if len(set(n.lower() for n in names)) != len(names):
+        raise CaptureError("two morph targets of the animated mesh share a name", path)
+    if np.any(np.diff(times) < 0):
+        raise CaptureError("the animation's key times go back in time", path)
+    return Take(path, tuple(names), (), times - times[0], values, 0.0)
+
+
+def read_take(path: str | Path, rate: float | None = None) -> Take:
+    """A take from a Live Link Face CSV or, by its suffix, a glTF morph-weight animation."""
+    if Path(path).suffix.lower() in GLTF_SUFFIXES:
+        return read_gltf_take(path)
+    return read_live_link_csv(path, rate)
+
+
 def import_capture(path: str | Path, timeline: Timeline, poses: Sequence[str],
                    fps: float | None = None, rate: float | None = None
                    ) -> tuple[Timeline, CaptureReport]:
     """Read the take at ``path`` and key it onto a copy of ``timeline`` (see ``apply_take``)."""
-    return apply_take(timeline, read_live_link_csv(path, rate), poses, fps)
+    return apply_take(timeline, read_take(path, rate), poses, fps)

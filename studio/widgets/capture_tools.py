@@ -19,7 +19,8 @@ from studio.core.errors import StudioError
 from studio.widgets.app_settings import settings
 from studio.widgets.timeline_edits import TimelineState
 
-CAPTURE_FILTER = "Live Link Face takes (*.csv);;All files (*)"
+CAPTURE_FILTER = ("Capture takes (*.csv *.glb *.gltf);;Live Link Face takes (*.csv);;"
+                  "glTF morph-weight animations (*.glb *.gltf);;All files (*)")
 FOLDER_KEY = "capture/last_folder"
 
 
