@@ -24,7 +24,7 @@ class _Parser(argparse.ArgumentParser):
 
 # Each command lives in studio/commands/<name>.py with ``add_parser(subparsers)`` that sets
 # ``run`` (a function of the parsed arguments returning the exit code).
-COMMANDS = ("render", "sample", "bench", "new", "export", "bake")
+COMMANDS = ("render", "sample", "bench", "new", "export", "bake", "capture")
 
 
 def build_parser() -> argparse.ArgumentParser:

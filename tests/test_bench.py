@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import itertools
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from studio.render.offscreen import OffscreenStudio
 from studio.render.renderer import RenderSettings
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief", "draw"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses"]
 
 
 def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
@@ -38,6 +39,39 @@ def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
         assert (out / plot).stat().st_size > 1000
     printed = capsys.readouterr().out
     assert "GL renderer:" in printed and "configuration" in printed
+
+
+def test_quick_bench_times_52_poses_moving_beside_plain_shading(tmp_path, capsys):
+    """``--poses 52``: a capture take's case on the 30000-vertex face, every weight changing
+    every frame, reported beside ``none`` on the same face; the plots leave it out."""
+    out = tmp_path / "bench"
+    assert main(["bench", "--quick", "--poses", "52", "--frames", "2", "--size", "160x120",
+                 "--out", str(out)]) == 0
+    with (out / "results.csv").open() as f:
+        rows = [r for r in csv.DictReader(f) if r["vertices"] == "30000"]
+    assert [(r["technique"], r["poses"]) for r in rows] == [("none", "0"), ("none", "52")]
+    printed = capsys.readouterr().out
+    table = printed[printed.rindex("configuration"):]
+    assert "none, 30000 vertices" in table
+    assert "none, 52 poses moving, 30000 vertices" in table
+    assert "none, 561 vertices" in table  # --quick keeps its own configurations
+
+
+def test_capture_animation_moves_every_pose_every_frame():
+    from studio.bench.configs import Config
+    from studio.bench.poses import bench_animation, bench_project
+
+    config = Config("none", 0, 561, poses=52)
+    project = bench_project(config)
+    assert len(project.poses) == 52
+    timeline = bench_animation(project, config)
+    frames = [timeline.weights_at(f) for f in range(timeline.end + 1)]
+    assert all(len(w) == 52 for w in frames)
+    for a, b in itertools.pairwise(frames):
+        assert all(a[p] != b[p] for p in a)
+    deltas = [p.positions - project.mesh.rest for p in project.poses]
+    assert all(np.abs(d).max() > 0 for d in deltas)
+    assert not any(np.array_equal(deltas[0], d) for d in deltas[1:])
 
 
 def test_bench_rejects_zero_frames(tmp_path, capsys):

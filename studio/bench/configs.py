@@ -8,6 +8,7 @@ THESIS_VERTICES = tuple(range(561, 5152, 510))  # 561, 1071, …, 5151 (Tables 5
 THESIS_AREAS = (1, 2, 4, 8, 12, 16)  # Table 5.2, on the 2172-vertex model
 EXTRA_AREAS = (32, 64, 128, 256)
 EXTRA_VERTICES = (30000,)
+POSES_VERTICES = 30000  # the face of the many-poses case (a production head's size)
 AREA_MODEL = 2172
 COMPARISON_AREAS = 8  # technique 1 in the vertex comparison
 # wrinkles in depth: each relief with both authored techniques, on the area model
@@ -28,17 +29,21 @@ class Config:
     vertices: int
     relief: str = "off"  # off | displace | parallax (RenderSettings.relief)
     draw: str = "split"  # split: plain shading where no wrinkle can show | whole: no split
+    poses: int = 0  # 0: the sample's poses in turn | N: N ARKit poses all moving every frame
 
     @property
     def label(self) -> str:
         extra = f", {self.areas} areas" if self.technique == "t1" else ""
         relief = f"+{self.relief}" if self.relief != "off" else ""
         whole = " whole" if self.draw == "whole" else ""
-        return f"{self.technique}{relief}{whole}{extra}, {self.vertices} vertices"
+        moving = f", {self.poses} poses moving" if self.poses else ""
+        return f"{self.technique}{relief}{whole}{extra}{moving}, {self.vertices} vertices"
 
 
-def configurations(quick: bool = False) -> list[Config]:
-    """Every configuration, grouped by mesh so each mesh is built once."""
+def configurations(quick: bool = False, poses: int = 0) -> list[Config]:
+    """Every configuration, grouped by mesh so each mesh is built once; with ``poses``, also a
+    capture take's case (that many poses, all changing every frame) on the large face, beside
+    the plain shading of the same face."""
     if quick:
         by_areas, by_vertices = (1, 16, 64), (561, 2172)
     else:
@@ -54,4 +59,8 @@ def configurations(quick: bool = False) -> list[Config]:
                         for t, relief in RELIEF_CONFIGS]
             configs += [Config("t2", 0, v, draw="whole")]
             configs += [Config("t1", a, v, draw="whole") for a in by_areas]
+    if poses:
+        if POSES_VERTICES not in by_vertices:
+            configs.append(Config("none", 0, POSES_VERTICES))
+        configs.append(Config("none", 0, POSES_VERTICES, poses=poses))
     return configs

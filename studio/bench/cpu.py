@@ -1,4 +1,4 @@
-"""The CPU side of a frame, part by part: ``python -m studio.bench.cpu [--vertices N]``.
+"""The CPU side of a frame, part by part: ``python -m studio.bench.cpu [--vertices N] [--poses N]``.
 
 ``wrinkle-studio bench`` times whole frames (the GPU included); this prints what each piece of the
 per-frame CPU work costs on the sample face, as medians of this thread's CPU time (other
@@ -17,10 +17,10 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from studio.bench.areas import benchmark_areas
+from studio.bench.configs import Config
+from studio.bench.poses import bench_animation, bench_project
 from studio.core.animation.poses import PoseBlender
-from studio.core.animation.timeline import sequence_all_poses
 from studio.core.mesh.geometry import DeformCache
-from studio.core.project.sample import make_sample
 
 
 def _median_ms(step: Callable[[int], object], count: int, repeat: int) -> float:
@@ -34,11 +34,14 @@ def _median_ms(step: Callable[[int], object], count: int, repeat: int) -> float:
     return statistics.median(times) * 1000.0
 
 
-def measure(vertices: int, repeat: int = 5, areas: Sequence[int] = (16, 256)) -> dict[str, float]:
-    """Median ms of each part of the per-frame CPU work on a sample face of ``vertices``."""
-    project = make_sample(vertices)
-    poses = [p.name for p in project.poses]
-    timeline = sequence_all_poses(poses, fps=24.0)
+def measure(vertices: int, repeat: int = 5, areas: Sequence[int] = (16, 256),
+            poses: int = 0) -> dict[str, float]:
+    """Median ms of each part of the per-frame CPU work on a sample face of ``vertices``; with
+    ``poses``, for a capture take's animation of that many poses instead of the thesis's."""
+    config = Config("none", 0, vertices, poses=poses)
+    project = bench_project(config)
+    timeline = bench_animation(project, config)
+    poses_named = [p.name for p in project.poses]
     cycle = [timeline.weights_at(f) for f in range(timeline.end)]
     moving = [cycle[f] for f in range(timeline.end) if cycle[f] != cycle[f - 1]]
     blender = PoseBlender(project.mesh.rest, project.poses)
@@ -57,7 +60,7 @@ def measure(vertices: int, repeat: int = 5, areas: Sequence[int] = (16, 256)) ->
             lambda i: cache.update(shaken[i % 2]), 20, repeat),
     }
     for count in areas:
-        influence = benchmark_areas(project.influence, count, poses)
+        influence = benchmark_areas(project.influence, count, poses_named)
         result[f"activations, {count} areas"] = _median_ms(
             lambda i, s=influence: s.activations(moving[i]), n, repeat)
     return result
@@ -69,8 +72,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=5, help="passes over the animation (5)")
     parser.add_argument("--areas", type=int, nargs="+", default=[16, 256],
                         help="technique-1 area counts to time the activations with (16 256)")
+    parser.add_argument("--poses", type=int, default=0,
+                        help="time a capture take of this many ARKit poses, all moving (0: the "
+                             "thesis's animation of the sample's own poses)")
     args = parser.parse_args(argv)
-    for part, ms in measure(args.vertices, args.repeat, args.areas).items():
+    for part, ms in measure(args.vertices, args.repeat, args.areas, args.poses).items():
         print(f"{part:<42}{ms:8.3f} ms")
     return 0
 

@@ -17,7 +17,7 @@ from studio.bench.configs import (
 from studio.bench.runner import Result
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief", "draw"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses"]
 
 
 def table(results: Sequence[Result]) -> str:
@@ -116,7 +116,8 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
 
 
 def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
-    results = [r for r in results if r.config.relief == "off"]  # reliefs: in the table only
+    # reliefs and the many-poses case: in the table only
+    results = [r for r in results if r.config.relief == "off" and not r.config.poses]
     whole = [r for r in results if r.config.draw == "whole"]
     results = [r for r in results if r.config.draw == "split"]
     by_areas = {"ours: t1": [(r.config.areas, float(r.fps.mean())) for r in results

@@ -12,8 +12,9 @@ import numpy as np
 
 from studio.bench.areas import benchmark_areas
 from studio.bench.configs import Config
+from studio.bench.poses import bench_animation
 from studio.core.animation.poses import PoseBlender
-from studio.core.animation.timeline import Timeline, sequence_all_poses
+from studio.core.animation.timeline import Timeline
 from studio.core.mesh.geometry import DeformCache
 from studio.core.project.model import Project
 from studio.core.project.view_settings import ViewSettings
@@ -45,7 +46,7 @@ class Result:
                 "mean_ms": round(self.mean_ms, 3), "fps_mean": round(float(fps.mean()), 2),
                 "fps_min": round(float(fps.min()), 2), "fps_max": round(float(fps.max()), 2),
                 "fps_std": round(float(fps.std()), 2), "deform_ms": round(self.deform_ms, 3),
-                "relief": c.relief, "draw": c.draw}
+                "relief": c.relief, "draw": c.draw, "poses": c.poses}
 
 
 def deformation_cpu_ms(project: Project, timeline: Timeline, frames: int,
@@ -80,7 +81,7 @@ class _Timed:
             poses = [p.name for p in project.poses]
             project.influence = benchmark_areas(project.influence, config.areas, poses)
         self.ctx, self.project, self.config, self.size = ctx, project, config, size
-        self.timeline = sequence_all_poses([p.name for p in project.poses], fps=24.0)
+        self.timeline = bench_animation(project, config)
         self.studio = OffscreenStudio(project, *size, samples=0, ctx=ctx)
         self.studio.renderer.split_draws = config.draw == "split"
         self.settings = render_settings(ViewSettings(technique=config.technique,

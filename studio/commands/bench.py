@@ -18,14 +18,29 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quick", action="store_true",
                    help="a small subset with few frames, in well under a minute")
     p.add_argument("--out", default="bench-results", help="folder for results.csv and plots")
+    p.add_argument("--poses", type=parse_poses, default=0, metavar="N",
+                   help="also time a capture take's case: N ARKit poses (up to 52), every "
+                        "weight changing every frame, on a 30000-vertex face")
     p.set_defaults(run=run)
+
+
+def parse_poses(text: str) -> int:
+    from studio.core.animation.pose_names import ARKIT_NAMES
+
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if not 1 <= n <= len(ARKIT_NAMES):
+        raise argparse.ArgumentTypeError(f"{n}: choose 1 to {len(ARKIT_NAMES)} poses")
+    return n
 
 
 def run(args: argparse.Namespace) -> int:
     from studio.bench.configs import configurations
+    from studio.bench.poses import bench_project
     from studio.bench.report import table, write_csv, write_plots
     from studio.bench.runner import PASSES, time_configurations
-    from studio.core.project.sample import make_sample
     from studio.render.offscreen import create_standalone_context
 
     frames = min(args.frames, 20) if args.quick else args.frames
@@ -43,10 +58,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"{frames} frames per configuration at {args.size[0]}x{args.size[1]}, in "
           f"{PASSES} turns round each face's configurations")
     results = []
-    for vertices, group in groupby(configurations(args.quick), key=lambda c: c.vertices):
+    for vertices, group in groupby(configurations(args.quick, args.poses),
+                                   key=lambda c: c.vertices):
         group = list(group)
         print(f"timing {len(group)} configurations on the {vertices}-vertex face …", flush=True)
-        projects = [make_sample(vertices) for _ in group]
+        projects = [bench_project(c) for c in group]
         results += time_configurations(ctx, projects, group, frames, args.size)
         print("\n".join(table(results[-len(group):]).splitlines()[1:]), flush=True)
     print()

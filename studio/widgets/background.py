@@ -66,6 +66,6 @@ def run_with_progress(parent: QWidget, title: str, text: str,
     dialog.deleteLater()
     if "error" in state:
         raise state["error"]  # type: ignore[misc]
-    if "result" not in state:
+    if cancel.is_set() or "result" not in state:  # cancelled, even if the work did not stop
         raise Cancelled()
     return state["result"]  # type: ignore[return-value]

@@ -28,6 +28,7 @@ from studio.widgets.maps.auto_tools import install_auto_tools
 from studio.widgets.maps.bake_tools import install_bake_tools
 from studio.widgets.maps.map_tools import install_map_tools
 from studio.widgets.paint.tools import install_mask_tools
+from studio.widgets.timeline.capture_tools import install_capture_tools
 from studio.widgets.timeline.pose_panel import PosePanel
 from studio.widgets.timeline.tools import add_timeline_menu_entries, install_timeline_tools
 from studio.widgets.viewport.shading_panel import ShadingPanel
@@ -77,6 +78,7 @@ class MainWindow(QMainWindow):
         add_timeline_menu_entries(self)  # File ▸ Export Animation… (after Export), View
         install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
+        install_capture_tools(self)  # File ▸ Import Capture…, needs the menus and timeline
         self._arrange_docks()
         self.doc.modifiedChanged.connect(self.setWindowModified)
         self.doc.pathChanged.connect(self._update_title)

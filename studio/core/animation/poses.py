@@ -65,8 +65,13 @@ def ease(fraction: float, mode: str) -> float:
 
 
 # Up to this many poses of non-zero weight are added one by one (a pass over the positions each);
-# more take one matrix product over every pose. An animation moves one or two poses at a time.
+# more take one matrix product over every pose. An animation moves one or two poses at a time; a
+# capture take moves all of them every frame.
 _ADD_POSES = 3
+# The product ``weights @ deltas`` goes through numpy's own einsum loop, not BLAS: it reads every
+# delta once (memory-bound), so threads gain nothing, and threaded OpenBLAS on a busy machine waits
+# for its worker threads — 52 poses × 30,000 vertices took 8 ms that way against 0.65 ms here.
+_PRODUCT = "p,pn->n"
 
 
 class PoseBlender:
@@ -110,7 +115,7 @@ class PoseBlender:
         if len(active) == 0:
             np.copyto(out, self._flat_rest)
         elif len(active) > _ADD_POSES:
-            np.matmul(w, self._deltas, out=out)
+            np.einsum(_PRODUCT, w, self._deltas, out=out)
             out += self._flat_rest
         else:
             first, *others = active.tolist()

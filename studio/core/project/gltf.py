@@ -497,3 +497,49 @@ def save_gltf(project: Project, path: str | Path) -> None:
     from studio.core.files.atomic_write import write_atomic
 
     write_atomic(path, data, MeshError, what="file")
+
+
+def load_weight_animation(path: str | Path) -> tuple[list[str], Array, Array]:
+    """The first animation channel of a glTF file that drives a mesh's morph-target weights:
+    (the targets' names from ``extras.targetNames``, key times in seconds, (keys, targets)
+    weights). A STEP channel comes back as linear keys that hold each value until just before
+    the next; a CUBICSPLINE one is refused (its tangents would be lost)."""
+    path = Path(path)
+    try:
+        return _weight_animation(_Gltf(path))
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
+            RecursionError, struct.error) as exc:
+        raise MeshError(f"the glTF file is malformed ({type(exc).__name__}: {exc})",
+                        path) from None
+
+
+def _weight_animation(g: _Gltf) -> tuple[list[str], Array, Array]:
+    for animation in _list(g, g.doc, "animations"):
+        samplers = animation.get("samplers", [])
+        for channel in animation.get("channels", []):
+            target = channel.get("target", {})
+            if target.get("path") != "weights" or "node" not in target:
+                continue
+            mesh = _item(g, "meshes", _item(g, "nodes", target["node"]).get("mesh"))
+            count = len(mesh["primitives"][0].get("targets", []))
+            names = [str(n) for n in mesh.get("extras", {}).get("targetNames", [])]
+            if count == 0 or len(names) != count:
+                raise MeshError(f"the animated mesh '{mesh.get('name', '')}' does not name its "
+                                f"{count} morph targets in extras.targetNames", g.path)
+            sampler = samplers[channel["sampler"]]
+            mode = sampler.get("interpolation", "LINEAR")
+            if mode not in ("LINEAR", "STEP"):
+                raise MeshError(f"the weights animation is {mode}; re-export it sampled "
+                                "(LINEAR)", g.path)
+            times = g.typed(sampler["input"], ("SCALAR",), "the animation's key times")[:, 0]
+            values = g.typed(sampler["output"], ("SCALAR",), "the animation's weights")[:, 0]
+            if len(values) != len(times) * count:
+                raise MeshError(f"the weights animation has {len(values)} values for "
+                                f"{len(times)} keys of {count} targets", g.path)
+            values = values.reshape(len(times), count)
+            if mode == "STEP" and len(times) > 1:  # hold each value until just before the next
+                gap = np.minimum(np.diff(times), 1e-3) * 1e-3
+                times = np.insert(times, np.arange(1, len(times)), times[1:] - gap)
+                values = np.repeat(values, 2, axis=0)[:-1]
+            return names, times, values
+    raise MeshError("no animation of morph-target weights in the glTF file", g.path)
