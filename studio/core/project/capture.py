@@ -16,9 +16,9 @@ shapes: they are ignored and reported.
 Columns are matched to the project's key poses through :mod:`studio.core.animation.pose_names`
 (any ARKit spelling, sides as ``Left`` or ``_L``, case ignored; other names must agree apart from
 case and separators). Each matched curve is resampled linearly to the timeline's frame rate and
-keyed with linear keys, keeping only the keys the curve needs: a key is dropped where the straight line
-between its neighbours stays within :data:`KEY_TOLERANCE` of every frame it spans, so the keys
-reproduce the resampled curve within half an 8-bit step at every frame.
+keyed with linear keys, keeping only the keys the curve needs: a key is dropped where the
+straight line between its neighbours stays within :data:`KEY_TOLERANCE` of every frame it spans,
+so the keys reproduce the resampled curve within half an 8-bit step at every frame.
 
 Everything a bad file can cause is a :class:`CaptureError` naming the file and, where there is
 one, the line; sizes are checked against budgets before the work is done.
