@@ -184,6 +184,13 @@ def test_new_from_gltf_then_render_and_export(small, tmp_path, capsys):
                                atol=1 / 255)
     assert (out / "shaders" / "face.frag").read_text().startswith("#version")
     assert load_gltf(out / "face.glb").mesh.n_welded == small.mesh.n_welded
+    # exporting again into the same folder replaces its files, as an artist re-exporting expects
+    (out / "wrinkles.json").write_text("{}")
+    assert main(["export", str(project_path), "--folder", str(out)]) == 0
+    assert json.loads((out / "wrinkles.json").read_text())["pose_links"] == small.influence.links
+    # but a file where the folder should be is refused, untouched
+    assert main(["export", str(project_path), "--folder", str(tmp_path / "r.png")]) == 2
+    assert "not a folder" in capsys.readouterr().err
 
 
 def test_new_with_a_bad_pose_argument_is_one_line(tmp_path, capsys):

@@ -26,7 +26,7 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.engines.export import export_layout
     from studio.core.engines.plan import LayoutError
     from studio.core.files.errors import StudioError
-    from studio.core.files.safe_io import check_output
+    from studio.core.files.safe_io import check_output, check_output_folder
     from studio.core.project.export import export_folder
     from studio.core.project.gltf import save_gltf
     from studio.core.project.reader import load_project
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
             raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
         check_output(args.gltf, [args.project], what="glTF file")
     else:
-        check_output(args.folder, [args.project], make_folders=True, what="folder")
+        check_output_folder(args.folder, what="export folder")
     project = load_project(Path(args.project))
     if args.gltf:
         save_gltf(project, Path(args.gltf))

@@ -141,6 +141,26 @@ def check_output(path: str | Path, inputs: Iterable[str | Path | None] = (),
     return path
 
 
+def check_output_folder(path: str | Path, error: type[StudioError] = StudioError,
+                        what: str = "folder") -> Path:
+    """Check a destination folder before any work: an existing folder is fine (exporting
+    again replaces its files, each one atomically, as an exporter's user expects), a file or
+    device is refused, a missing one is made later if its nearest existing parent is a
+    writable folder."""
+    path = check_path_text(path, error)
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return check_output(path, (), error, make_folders=True, what=what)
+    except OSError as exc:
+        raise error(f"cannot write the {what}: {os_reason(exc, str(path))}", path) from None
+    if not stat.S_ISDIR(mode):
+        raise error(f"cannot write the {what}: this is {_kind(mode)}, not a folder", path)
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise error(f"cannot write the {what}: permission denied for the folder {path}", path)
+    return path
+
+
 def make_folder(folder: str | Path, error: type[StudioError] = StudioError) -> None:
     """Create ``folder`` and its parents, as a StudioError naming it when that fails."""
     try:
