@@ -67,9 +67,22 @@ class WdvPanel(QScrollArea):
 
     # --- layout --------------------------------------------------------------------------------
     def _build(self) -> None:
+        """Three boxes in the order of the work: the area and its pose, the vertices, Create."""
         body = QWidget()
         layout = QVBoxLayout(body)
+        layout.addWidget(self._build_areas_box())
+        layout.addWidget(self._build_select_box())
+        layout.addWidget(self._build_directions_box())
+        hint = QLabel("1. Pick or add an area and its pose  2. S, then drag over the face "
+                      "(Shift adds, Ctrl removes)  3. Create  4. Move the pose slider")
+        hint.setWordWrap(True)
+        hint.setStyleSheet("color: #888;")
+        layout.addWidget(hint)
+        layout.addStretch(1)
+        self.setWidget(body)
 
+    def _build_areas_box(self) -> QGroupBox:
+        """The area list with its buttons, and the current area's pose, cone, colour and map."""
         areas = QGroupBox("Areas")
         a_layout = QVBoxLayout(areas)
         self.area_list = QListWidget()
@@ -102,6 +115,21 @@ class WdvPanel(QScrollArea):
                              "shows no wrinkles")
         self.cone.edited.connect(self._cone_edited)
         form.addRow("Cone angle", self.cone)
+        form.addRow("Painted θ", self._build_cone_paint_row())
+        self.colour_button = QPushButton()
+        self.colour_button.setToolTip("The colour the area's vertices and vectors are drawn in")
+        self.colour_button.clicked.connect(self._choose_colour)
+        form.addRow("Colour", self.colour_button)
+        self.map_combo = QComboBox()
+        self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
+                                  "more)")
+        self.map_combo.activated.connect(self._map_chosen)
+        form.addRow("Wrinkle map", self.map_combo)
+        a_layout.addLayout(form)
+        return areas
+
+    def _build_cone_paint_row(self) -> QHBoxLayout:
+        """Per-vertex cone angles: the value, the brush, to the selection, clear."""
         painted = QHBoxLayout()
         self.cone_paint = QDoubleSpinBox()
         self.cone_paint.setRange(0.5, 90.0)
@@ -125,19 +153,10 @@ class WdvPanel(QScrollArea):
         for w in (self.cone_paint, self.cone_brush_button, self.cone_selected_button,
                   self.cone_clear_button):
             painted.addWidget(w)
-        form.addRow("Painted θ", painted)
-        self.colour_button = QPushButton()
-        self.colour_button.setToolTip("The colour the area's vertices and vectors are drawn in")
-        self.colour_button.clicked.connect(self._choose_colour)
-        form.addRow("Colour", self.colour_button)
-        self.map_combo = QComboBox()
-        self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
-                                  "more)")
-        self.map_combo.activated.connect(self._map_chosen)
-        form.addRow("Wrinkle map", self.map_combo)
-        a_layout.addLayout(form)
-        layout.addWidget(areas)
+        return painted
 
+    def _build_select_box(self) -> QGroupBox:
+        """The select tool, its modes and brush, and the selection operations."""
         select = QGroupBox("Select vertices")
         s_layout = QVBoxLayout(select)
         self.tool_button = QPushButton("Select tool (S)")
@@ -194,8 +213,10 @@ class WdvPanel(QScrollArea):
         s_layout.addLayout(grid)
         self.selection_label = QLabel()
         s_layout.addWidget(self.selection_label)
-        layout.addWidget(select)
+        return select
 
+    def _build_directions_box(self) -> QGroupBox:
+        """Suggest, Create and Clear, what to show, and the status line."""
         create = QGroupBox("Wrinkle directions")
         c_layout = QVBoxLayout(create)
         suggest = QHBoxLayout()
@@ -235,14 +256,7 @@ class WdvPanel(QScrollArea):
         self.status = QLabel()
         self.status.setWordWrap(True)
         c_layout.addWidget(self.status)
-        layout.addWidget(create)
-        hint = QLabel("1. Pick or add an area and its pose  2. S, then drag over the face "
-                      "(Shift adds, Ctrl removes)  3. Create  4. Move the pose slider")
-        hint.setWordWrap(True)
-        hint.setStyleSheet("color: #888;")
-        layout.addWidget(hint)
-        layout.addStretch(1)
-        self.setWidget(body)
+        return create
 
     def _button(self, text: str, tip: str, slot) -> QPushButton:
         b = QPushButton(text)
