@@ -19,7 +19,8 @@ def main() -> None:
     """Print the table and write mutants/survivors.txt."""
     rows: dict[str, Counter] = {}
     survivors: list[str] = []
-    for meta in sorted(Path("mutants/studio/core").glob("*.py.meta")):
+    core = Path("mutants/studio/core")
+    for meta in sorted(core.rglob("*.py.meta")):
         data = json.loads(meta.read_text())
         counts: Counter = Counter()
         for name, code in data.get("exit_code_by_key", {}).items():
@@ -27,9 +28,9 @@ def main() -> None:
             counts[verdict] += 1
             if verdict in ("survived", "no tests"):
                 survivors.append(f"{verdict:9} {name}")
-        rows[meta.name.removesuffix(".py.meta")] = counts
+        rows[str(meta.relative_to(core)).removesuffix(".py.meta")] = counts
     total: Counter = Counter()
-    print(f"{'module':18} {'mutants':>7} {'killed':>7} {'timeout':>7} {'survived':>8} "
+    print(f"{'module':24} {'mutants':>7} {'killed':>7} {'timeout':>7} {'survived':>8} "
           f"{'no tests':>8} {'other':>6} {'score':>6}")
     for module, c in rows.items():
         total.update(c)
@@ -45,7 +46,7 @@ def line(name: str, c: Counter) -> str:
     caught = c["killed"] + c["timeout"]
     other = run - caught - c["survived"] - c["no tests"]
     score = f"{100 * caught / run:5.1f}%" if run else "   -  "
-    return (f"{name:18} {sum(c.values()):7} {c['killed']:7} {c['timeout']:7} {c['survived']:8} "
+    return (f"{name:24} {sum(c.values()):7} {c['killed']:7} {c['timeout']:7} {c['survived']:8} "
             f"{c['no tests']:8} {other:6} {score}")
 
 
