@@ -191,7 +191,8 @@ class CurveBank:
             segment = np.clip((self._xs <= xc[:, None]).sum(axis=1) - 1, 0, self._last)
             x0, x1 = self._xs[rows, segment], self._xs[rows, segment + 1]
             y0, y1 = self._ys[rows, segment], self._ys[rows, segment + 1]
-            t = np.clip((xc - x0) / (x1 - x0), 0.0, 1.0)
+            with np.errstate(over="ignore"):  # a near-vertical step: t saturates, as it should
+                t = np.clip((xc - x0) / (x1 - x0), 0.0, 1.0)
             out[self._custom] = y0 + t * (y1 - y0)
         return out
 
