@@ -122,10 +122,13 @@ def test_activations_equal_a_per_link_reference(data, n_areas: int, n_poses: int
                 links.setdefault(pose, {})[area.name] = data.draw(st.floats(0.0, 2.0))
                 table.setdefault(pose, {})[area.name] = data.draw(curves())
     influence = InfluenceSetup(areas, links, table)
-    for _ in range(3):  # several frames over the same derived tables
-        weights = {p: data.draw(st.floats(-0.2, 1.2)) for p in poses}
-        np.testing.assert_allclose(influence.activations(weights),
-                                   _reference(influence, weights), atol=2e-6)
+    frames = [{p: data.draw(st.floats(-0.2, 1.2)) for p in poses} for _ in range(3)]
+    expected = [_reference(influence, weights) for weights in frames]
+    for weights, reference in zip(frames, expected, strict=True):  # one derived table
+        np.testing.assert_allclose(influence.activations(weights), reference, atol=2e-6)
+    # the timeline's form: every frame at once, from a (frames × poses) array
+    at_once = influence.activations_over(poses, [[w[p] for p in poses] for w in frames])
+    np.testing.assert_allclose(at_once, expected, atol=1e-9)
 
 
 def test_activations_follow_a_changed_curve() -> None:

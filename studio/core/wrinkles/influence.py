@@ -6,7 +6,7 @@ into one texture array. Image row 0 is the top of the UV square (v = 1), as in a
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -56,12 +56,11 @@ class _Gains:
     hidden: Array  # (N,) bool
     rows: dict[str, int]  # linked pose -> its row of ``gains``
     gains: Array  # (P, N) float64: gain of each linked pose for each area (linear links)
-    # the links with another curve, one entry each: pose row, area column, gain, and the bank
-    # that evaluates all their curves at once
+    # the links with another curve, one entry each: their pose rows, the bank that evaluates
+    # all their curves at once, and where each response goes (its gain in its area's column)
     curved_rows: Array  # (L,) intp
-    curved_columns: Array  # (L,) intp
-    curved_gains: Array  # (L,) float64
     bank: CurveBank
+    curved_gains: Array  # (L, N) float64
 
     @classmethod
     def build(cls, areas: list[InfluenceArea], links: Mapping[str, Mapping[str, float]],
@@ -87,9 +86,14 @@ class _Gains:
                    np.array([a.activation for a in areas], dtype=np.float64),
                    np.array([not a.visible for a in areas], dtype=bool), rows, gains,
                    np.array([c[0] for c in curved], dtype=np.intp),
-                   np.array([c[1] for c in curved], dtype=np.intp),
-                   np.array([c[2] for c in curved], dtype=np.float64),
-                   CurveBank([c[3] for c in curved]))
+                   CurveBank([c[3] for c in curved]), cls._scatter(curved, len(areas)))
+
+    @staticmethod
+    def _scatter(curved: list[tuple[int, int, float, ResponseCurve]], n_areas: int) -> Array:
+        matrix = np.zeros((len(curved), n_areas))
+        for i, (_, column, gain, _) in enumerate(curved):
+            matrix[i, column] = gain
+        return matrix
 
     def current(self, areas: list[InfluenceArea], links: Mapping, curves: Mapping) -> bool:
         """Still valid: no area edited, the same areas in the same order, equal links and
@@ -98,12 +102,11 @@ class _Gains:
                 and self.curves == curves)
 
     def add_links(self, values: Array, weights: Array) -> None:
-        """Add every link's ``gain · curve(weight)`` to ``values`` (per area), in place."""
+        """Add every link's ``gain · curve(weight)`` to ``values`` (..., N), in place, for pose
+        weights (..., P) in the rows' order (leading axes: one frame or many)."""
         values += weights @ self.gains
         if self.bank.size:
-            response = self.bank.evaluate(weights[self.curved_rows])
-            values += np.bincount(self.curved_columns, self.curved_gains * response,
-                                  minlength=len(values))
+            values += self.bank.evaluate(weights[..., self.curved_rows]) @ self.curved_gains
 
 
 @dataclass(eq=False)
@@ -137,9 +140,7 @@ class InfluenceSetup:
         and one vectorised pass over the curved links, built again only after the areas, links
         or curves changed — not a walk over every link.
         """
-        gains = self._gains
-        if gains is None or not gains.current(self.areas, self.links, self.curves):
-            gains = self._gains = _Gains.build(self.areas, self.links, self.curves)
+        gains = self._derived()
         values = gains.base.copy()
         if pose_weights and gains.rows:
             weights = np.zeros(len(gains.rows))
@@ -150,3 +151,26 @@ class InfluenceSetup:
             gains.add_links(values, weights)
         values[gains.hidden] = 0.0
         return np.clip(values, 0.0, 1.0).astype(np.float32)
+
+    def activations_over(self, poses: Sequence[str], weights: Array) -> Array:
+        """(F, N) float64 activations for F frames at once: ``weights`` (F, len(poses)) holds
+        each frame's pose weights — what the timeline draws, without a call per frame."""
+        gains = self._derived()
+        weights = np.asarray(weights, dtype=np.float64)
+        values = np.repeat(gains.base[None, :], len(weights), axis=0)
+        rows = np.zeros((len(weights), len(gains.rows)))
+        for column, pose in enumerate(poses):
+            row = gains.rows.get(pose)
+            if row is not None:
+                rows[:, row] = weights[:, column]
+        gains.add_links(values, rows)
+        values[:, gains.hidden] = 0.0
+        return np.clip(values, 0.0, 1.0)
+
+    def _derived(self) -> _Gains:
+        """The gain matrix and curve bank, built again only if the areas, links or curves
+        changed since the last call."""
+        gains = self._gains
+        if gains is None or not gains.current(self.areas, self.links, self.curves):
+            gains = self._gains = _Gains.build(self.areas, self.links, self.curves)
+        return gains

@@ -177,23 +177,24 @@ class CurveBank:
         self._xs, self._ys = table[..., 0], table[..., 1]
 
     def evaluate(self, x: Array) -> Array:
-        """``x``: (n,) pose weights, one per curve; returns (n,) float64 responses."""
+        """``x``: (..., n) pose weights, one per curve (leading axes: frames, say); returns
+        (..., n) float64 responses."""
         x = np.asarray(x, dtype=np.float64)
-        out = np.empty(self.size)
+        out = np.empty(x.shape)
         if len(self._cubic):
-            t = (x[self._cubic] - self._start) / self._span
+            t = (x[..., self._cubic] - self._start) / self._span
             t = np.clip(t, self._low, self._high)
             c = self._coefficients
-            out[self._cubic] = c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3]))
+            out[..., self._cubic] = c[:, 0] + t * (c[:, 1] + t * (c[:, 2] + t * c[:, 3]))
         if len(self._custom):
-            xc = x[self._custom]
-            rows = np.arange(len(xc))
-            segment = np.clip((self._xs <= xc[:, None]).sum(axis=1) - 1, 0, self._last)
+            xc = x[..., self._custom]
+            rows = np.arange(len(self._custom))
+            segment = np.clip((self._xs <= xc[..., None]).sum(axis=-1) - 1, 0, self._last)
             x0, x1 = self._xs[rows, segment], self._xs[rows, segment + 1]
             y0, y1 = self._ys[rows, segment], self._ys[rows, segment + 1]
             with np.errstate(over="ignore"):  # a near-vertical step: t saturates, as it should
                 t = np.clip((xc - x0) / (x1 - x0), 0.0, 1.0)
-            out[self._custom] = y0 + t * (y1 - y0)
+            out[..., self._custom] = y0 + t * (y1 - y0)
         return out
 
 
