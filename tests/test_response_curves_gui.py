@@ -146,3 +146,23 @@ def test_area_edits_keep_the_curves_with_their_areas(qtbot, sample):
     doc.undo_stack.undo()
     doc.undo_stack.undo()
     assert link_curve(doc, POSE, AREA) == EASE_IN
+
+
+def test_a_mirrored_area_takes_the_curves_of_its_source_to_the_paired_poses(qtbot, sample):
+    from studio.core.wrinkles.surface_mirror import SurfaceMirror
+    from studio.widgets.document import Document
+    from studio.widgets.paint.edits import mirror_area
+
+    doc = Document(sample)
+    names = [a.name for a in sample.influence.areas]
+    set_link_curve(doc, "brow_raise_left", "forehead left", EASE_IN)
+    set_link_curve(doc, "brow_raise_right", "forehead right", ResponseCurve("ease_out"))
+    set_link_curve(doc, "surprise", "forehead right", ResponseCurve("ease_in_out"))
+    made = mirror_area(doc, names.index("forehead left"),
+                       SurfaceMirror(sample.mesh, *doc.mirror_plane()))
+    assert made.name == "forehead right"  # the paired area, replaced with its curves
+    assert link_curve(doc, "brow_raise_right", "forehead right") == EASE_IN
+    assert link_curve(doc, "surprise", "forehead right") == ResponseCurve()  # linear like left's
+    doc.undo_stack.undo()
+    assert link_curve(doc, "brow_raise_right", "forehead right") == ResponseCurve("ease_out")
+    assert link_curve(doc, "surprise", "forehead right") == ResponseCurve("ease_in_out")
