@@ -1,8 +1,9 @@
 """One pose's link to the selected influence area in the Areas panel: its gain, its response
 curve's kind and the curve's plot.
 
-The gain spin box is the link itself (0 = not linked); the curve choice and the plot appear only
-for a linked pose, so an ARKit face's 52 poses cost 52 spin boxes, not 52 plots. Every change is
+The gain spin box is the link itself (0 = not linked); the curve choice and the plot are made
+only for a linked pose (the panel makes the editors again whenever the links change), so an
+ARKit face's 52 poses cost 52 spin boxes, not 52 plots of ~10 ms each. Every change is
 an undo command (edits.set_link, curve_edits.set_link_curve); the editor shows the document back
 on ``refresh``, which the panel calls when the curves change (an edit, its undo or redo).
 """
@@ -31,33 +32,36 @@ class LinkEditor(QWidget):
         self.spin.setToolTip("Gain: the most this pose adds to the area's activation")
         gain = doc.project.influence.links.get(pose, {}).get(area, 0.0)
         self.spin.setValue(gain)
-        self.kind = QComboBox()
-        for kind, label in LABELS.items():
-            self.kind.addItem(label, kind)
-        self.kind.setToolTip("Response curve: how the pose's weight becomes its contribution "
-                             "(gain × curve(weight))")
-        self.kind.setObjectName(f"curve:{pose}")
-        self.plot = CurvePlot()
+        self.spin.valueChanged.connect(lambda g: edits.set_link(doc, pose, area, g))
         top = QHBoxLayout()
         top.setContentsMargins(0, 0, 0, 0)
         top.addWidget(self.spin, 1)
-        top.addWidget(self.kind, 1)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.addLayout(top)
-        layout.addWidget(self.plot)
-        self.kind.setVisible(gain != 0.0)
-        self.plot.setVisible(gain != 0.0)
-        self.refresh()
-        self.spin.valueChanged.connect(lambda g: edits.set_link(doc, pose, area, g))
-        self.kind.activated.connect(self._kind_chosen)
-        self.plot.edited.connect(self._edited)
+        self.kind: QComboBox | None = None
+        self.plot: CurvePlot | None = None
+        if gain != 0.0:
+            self.kind = QComboBox()
+            for kind, label in LABELS.items():
+                self.kind.addItem(label, kind)
+            self.kind.setToolTip("Response curve: how the pose's weight becomes its "
+                                 "contribution (gain × curve(weight))")
+            self.kind.setObjectName(f"curve:{pose}")
+            self.plot = CurvePlot()
+            top.addWidget(self.kind, 1)
+            layout.addWidget(self.plot)
+            self.refresh()
+            self.kind.activated.connect(self._kind_chosen)
+            self.plot.edited.connect(self._edited)
 
     def curve(self) -> ResponseCurve:
         return link_curve(self.doc, self.pose, self.area)
 
     def refresh(self) -> None:
-        """Show the link's curve as the document has it."""
+        """Show the link's curve as the document has it (nothing to show for no link)."""
+        if self.kind is None or self.plot is None:
+            return
         curve = self.curve()
         self.kind.blockSignals(True)
         self.kind.setCurrentIndex(self.kind.findData(curve.kind))
@@ -65,6 +69,7 @@ class LinkEditor(QWidget):
         self.plot.show_curve(curve)
 
     def _kind_chosen(self, row: int) -> None:
+        assert self.kind is not None  # connected only when made
         self._edited(converted(self.curve(), self.kind.itemData(row)), None)
 
     def _edited(self, curve: ResponseCurve, gesture: int | None) -> None:
