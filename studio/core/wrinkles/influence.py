@@ -46,7 +46,7 @@ class InfluenceArea:
 
 @dataclass(eq=False)
 class _Gains:
-    """What ``activations`` derives from the areas and links, kept until either changes."""
+    """What ``activations`` derives from the areas, links and curves, kept until one changes."""
 
     areas: list[InfluenceArea]  # the list it was built from (its items compared by identity)
     edits: int  # ``_Edits.count`` when it was built
