@@ -31,6 +31,7 @@ class Document(QObject):
     poseWeightsChanged = Signal()
     activationsChanged = Signal()  # technique-1 activation sliders (pose links follow weights)
     areasChanged = Signal()  # technique-1 areas: added, removed, renamed, reordered, links
+    curvesChanged = Signal()  # technique-1 links' response curves (activationsChanged follows)
     masksChanged = Signal()  # technique-1 mask stack replaced (size or count changed)
     maskRegionChanged = Signal(int, int, int, int, int)  # layer, x, y, w, h (image pixels)
     wdvChanged = Signal()  # technique-2 areas, vectors, cone angles

@@ -1,6 +1,7 @@
 """Engine-ready output besides the glTF: masks as PNGs (one per area, and four areas packed into
 the RGBA channels of one image, as engines sample them), the wrinkled normal maps, the pose →
-area links and each area's wrinkled map as JSON, and the GLSL of both techniques."""
+area links with their response curves and each area's wrinkled map as JSON, and the GLSL of
+both techniques."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
 from studio.core.project.gltf import save_gltf
 from studio.core.project.model import Project
+from studio.core.wrinkles.response import curves_to_dict
 from studio.paths import shader_dir
 
 SHADERS = ("common.glsl", "relief.glsl", "face.vert", "face.tesc", "face.tese", "face.frag",
@@ -113,6 +115,8 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
                    "wrinkle_map": textures.map_index(a.wrinkle_map)}
                   for i, a in enumerate(areas)],
         "pose_links": project.influence.links,
+        # the non-linear links' response curves: contribution = gain · curve(pose weight)
+        "pose_curves": curves_to_dict(project.influence.curves),
         **uv_tiles_note(project),
         "packed_layout": layout,
         "wdv": {"expression_factor": project.wdv.expression_factor,

@@ -33,6 +33,7 @@ from studio.core.mesh.meshio import mesh_from_render_vertices
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
 from studio.core.project.model import Project
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
+from studio.core.wrinkles.response import curves_from_dict, curves_to_dict
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
@@ -359,7 +360,9 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
                                    float(spec.get("activation", 0.0)),
                                    bool(spec.get("visible", True)),
                                    str(spec.get("wrinkle_map", ""))))
-    project.influence = InfluenceSetup(areas, extras.get("influence", {}).get("links", {}))
+    influence = extras.get("influence", {})
+    project.influence = InfluenceSetup(areas, influence.get("links", {}),
+                                       curves_from_dict(influence.get("curves", {})))
     if extras.get("wrinkle_maps"):
         tex = project.textures
         maps = {str(m["name"]): _rgb(g.image(m["image"]), tex.normal_wrinkled)
@@ -454,7 +457,8 @@ def save_gltf(project: Project, path: str | Path) -> None:
                 {"source": image(tex.normal_wrinkled, "normal_wrinkled")}]
     wrinkle_maps = [{"name": name, "image": 2 if i == 0 else image(im, f"wrinkled: {name}")}
                     for i, (name, im) in enumerate(tex.wrinkle_maps.items())]
-    influence = {"links": project.influence.links, "areas": [
+    influence = {"links": project.influence.links,
+                 "curves": curves_to_dict(project.influence.curves), "areas": [
         {"name": a.name, "colour": list(a.colour), "activation": a.activation,
          "visible": a.visible, "wrinkle_map": a.wrinkle_map,
          "image": image(np.round(a.mask * 65535.0).astype(np.uint16), f"mask: {a.name}")}

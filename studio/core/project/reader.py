@@ -49,6 +49,7 @@ from studio.core.project.schema import (
     wrinkled_member,
 )
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
+from studio.core.wrinkles.response import curves_from_dict
 from studio.core.wrinkles.textures import DEFAULT_WRINKLE_MAP, MAX_WRINKLE_MAPS, FaceTextures
 from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
@@ -385,7 +386,11 @@ class _Loader:
             gains = self.value(gains, "object", f"influence.links.{pose}")
             links[pose] = {area: self.value(g, "number", f"influence.links.{pose}.{area}")
                            for area, g in gains.items()}
-        return InfluenceSetup(areas, links)
+        curves = self.optional(doc, "curves", "object", "influence.", {})
+        try:
+            return InfluenceSetup(areas, links, curves_from_dict(curves))
+        except ValueError as exc:  # names the pose, area and field: "smile.cheek: kind …"
+            self.fail(f"project.json: influence.curves.{exc}")
 
     def wdv(self, doc: dict[str, Any], n: int) -> WdvSetup:
         areas = []

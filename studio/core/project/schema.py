@@ -34,7 +34,10 @@ Layout (every name relative to the archive root)::
                   "vertex_tile": "mesh/vertex_tile.npy"},  (optional: UDIM tiles in the atlas)
      "influence": {"areas": [{"name", "colour": [r, g, b], "activation", "visible",
                               "wrinkle_map", "mask": "masks/00_forehead.png"}, ...],
-                   "links": {"pose": {"area": gain}}},
+                   "links": {"pose": {"area": gain}},
+                   "curves": {"pose": {"area": {"kind", "start", "end", "points"}}}},
+                                (optional: each link's response curve, ResponseCurve.to_dict;
+                                 a link without one is linear, as in files made before curves)
      "wdv": {"expression_factor", "scale_free",
              "areas": [{"name", "pose", "colour", "cone_angle_deg", "enabled", "wrinkle_map",
                         "cones": "wdv/00_cones.npy" (optional),
@@ -80,6 +83,7 @@ from studio.core.files.errors import ProjectError, StudioError
 from studio.core.files.input_checks import MAX_FPS, MIN_FPS
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.model import Project
+from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.textures import FaceTextures
 
 Array = np.ndarray
@@ -181,6 +185,13 @@ def check_project(project: Project, path: str | Path | None = None) -> None:
                 fail(f"the link from key pose '{pose}' names influence area '{area}', "
                      "which does not exist")
             _check_number(gain, f"the gain of the link from '{pose}' to '{area}'", fail)
+    for pose, by_area in project.influence.curves.items():
+        for area, curve in by_area.items():
+            if pose not in poses or area not in area_names:
+                fail(f"the response curve of the link from '{pose}' to '{area}' names a key "
+                     "pose or influence area that does not exist")
+            if not isinstance(curve, ResponseCurve):
+                fail(f"the response curve of the link from '{pose}' to '{area}' is not a curve")
     wdv = project.wdv
     _check_number(wdv.expression_factor, "the WDV expression factor", fail)
     _check_names([a.name for a in wdv.areas], "WDV area", fail)

@@ -38,6 +38,7 @@ from studio.core.project.schema import (
     pose_member,
     wrinkled_member,
 )
+from studio.core.wrinkles.response import curves_to_dict
 
 Array = np.ndarray
 
@@ -155,6 +156,7 @@ def _document(project: Project, path: Path) -> bytes:
                           influence.areas, mask_member), strict=True)],
             "links": {pose: {area: float(gain) for area, gain in gains.items()}
                       for pose, gains in influence.links.items()},
+            **({"curves": curves} if (curves := curves_to_dict(influence.curves)) else {}),
         },
         "wdv": {
             "expression_factor": float(project.wdv.expression_factor),

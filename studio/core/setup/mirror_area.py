@@ -10,6 +10,7 @@ from studio.core.animation.pose_names import mirror_name, swapped_sides
 from studio.core.files.naming import unique_name
 from studio.core.project.model import Project
 from studio.core.wrinkles.influence import InfluenceArea
+from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.surface_mirror import SurfaceMirror, mirror_mask
 
 
@@ -18,6 +19,7 @@ class MirroredArea:
     area: InfluenceArea  # the new area, or the paired one with its new mask
     replaces: int | None  # index of the paired area it replaces; None: added after the source
     links: dict[str, float]  # pose -> gain, for the new area
+    curves: dict[str, ResponseCurve]  # pose -> the response curve of that link (if not linear)
 
 
 def mirrored_area(project: Project, index: int, mirror: SurfaceMirror) -> MirroredArea:
@@ -38,8 +40,12 @@ def mirrored_area(project: Project, index: int, mirror: SurfaceMirror) -> Mirror
         area = InfluenceArea(name, mask, source.colour, source.activation, source.visible,
                              source.wrinkle_map)
     poses = project.pose_names
-    links = {}
+    links, curves = {}, {}
     for pose, gains in project.influence.links.items():
         if source.name in gains:
-            links[mirror_name(pose, poses) or pose] = gains[source.name]
-    return MirroredArea(area, replaces, links)
+            paired_pose = mirror_name(pose, poses) or pose
+            links[paired_pose] = gains[source.name]
+            curve = project.influence.curves.get(pose, {}).get(source.name)
+            if curve is not None:
+                curves[paired_pose] = curve
+    return MirroredArea(area, replaces, links, curves)

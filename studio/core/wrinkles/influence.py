@@ -6,10 +6,12 @@ into one texture array. Image row 0 is the top of the UV square (v = 1), as in a
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from studio.core.wrinkles.response import CurveBank, CurveTable, ResponseCurve
 
 Array = np.ndarray
 
@@ -44,33 +46,67 @@ class InfluenceArea:
 
 @dataclass(eq=False)
 class _Gains:
-    """What ``activations`` derives from the areas and links, kept until either changes."""
+    """What ``activations`` derives from the areas, links and curves, kept until one changes."""
 
     areas: list[InfluenceArea]  # the list it was built from (its items compared by identity)
     edits: int  # ``_Edits.count`` when it was built
     links: dict[str, dict[str, float]]  # a copy of the links it was built from
+    curves: dict[str, dict[str, ResponseCurve]]  # and of their curves
     base: Array  # (N,) float64: each area's own activation
     hidden: Array  # (N,) bool
     rows: dict[str, int]  # linked pose -> its row of ``gains``
-    gains: Array  # (P, N) float64: gain of each linked pose for each area
+    gains: Array  # (P, N) float64: gain of each linked pose for each area (linear links)
+    # the links with another curve, one entry each: their pose rows, the bank that evaluates
+    # all their curves at once, and where each response goes (its gain in its area's column)
+    curved_rows: Array  # (L,) intp
+    bank: CurveBank
+    curved_gains: Array  # (L, N) float64
 
     @classmethod
-    def build(cls, areas: list[InfluenceArea], links: Mapping[str, Mapping[str, float]]) -> _Gains:
+    def build(cls, areas: list[InfluenceArea], links: Mapping[str, Mapping[str, float]],
+              curves: CurveTable) -> _Gains:
+        """Linear links go into the gain matrix (the product is exactly the one made before
+        curves existed); the others into flat per-link arrays for one vectorised pass."""
         column = {a.name: i for i, a in enumerate(areas)}  # a repeated name: its last area
         rows = {pose: r for r, pose in enumerate(links)}
         gains = np.zeros((len(rows), len(areas)))
-        for r, pose_gains in enumerate(links.values()):
+        curved: list[tuple[int, int, float, ResponseCurve]] = []
+        for r, (pose, pose_gains) in enumerate(links.items()):
+            pose_curves = curves.get(pose, {})
             for area, gain in pose_gains.items():
-                if area in column:
+                if area not in column:
+                    continue
+                curve = pose_curves.get(area)
+                if curve is None or curve.linear:
                     gains[r, column[area]] += gain
+                else:
+                    curved.append((r, column[area], gain, curve))
         return cls(list(areas), _Edits.count, {p: dict(g) for p, g in links.items()},
+                   {p: dict(c) for p, c in curves.items()},
                    np.array([a.activation for a in areas], dtype=np.float64),
-                   np.array([not a.visible for a in areas], dtype=bool), rows, gains)
+                   np.array([not a.visible for a in areas], dtype=bool), rows, gains,
+                   np.array([c[0] for c in curved], dtype=np.intp),
+                   CurveBank([c[3] for c in curved]), cls._scatter(curved, len(areas)))
 
-    def current(self, areas: list[InfluenceArea], links: Mapping) -> bool:
-        """Still valid: no area edited, the same areas in the same order, equal links (a
-        C-level comparison, so any way of editing the links is noticed)."""
-        return self.edits == _Edits.count and self.areas == areas and self.links == links
+    @staticmethod
+    def _scatter(curved: list[tuple[int, int, float, ResponseCurve]], n_areas: int) -> Array:
+        matrix = np.zeros((len(curved), n_areas))
+        for i, (_, column, gain, _) in enumerate(curved):
+            matrix[i, column] = gain
+        return matrix
+
+    def current(self, areas: list[InfluenceArea], links: Mapping, curves: Mapping) -> bool:
+        """Still valid: no area edited, the same areas in the same order, equal links and
+        curves (C-level comparisons, so any way of editing them is noticed)."""
+        return (self.edits == _Edits.count and self.areas == areas and self.links == links
+                and self.curves == curves)
+
+    def add_links(self, values: Array, weights: Array) -> None:
+        """Add every link's ``gain · curve(weight)`` to ``values`` (..., N), in place, for pose
+        weights (..., P) in the rows' order (leading axes: one frame or many)."""
+        values += weights @ self.gains
+        if self.bank.size:
+            values += self.bank.evaluate(weights[..., self.curved_rows]) @ self.curved_gains
 
 
 @dataclass(eq=False)
@@ -78,6 +114,10 @@ class InfluenceSetup:
     areas: list[InfluenceArea] = field(default_factory=list)
     # pose name -> {area name: gain}: moving toward the pose raises those areas' activations
     links: dict[str, dict[str, float]] = field(default_factory=dict)
+    # pose name -> {area name: curve}: how the pose's weight shapes that link (absent = linear).
+    # Kept beside ``links`` rather than in it so every reader of the gains works unchanged; a
+    # curve outlives its link's removal (a gain set to 0 and back keeps the curve).
+    curves: dict[str, dict[str, ResponseCurve]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self._gains: _Gains | None = None  # derived by ``activations``, checked before each use
@@ -93,14 +133,14 @@ class InfluenceSetup:
         return np.stack([a.mask for a in self.areas])
 
     def activations(self, pose_weights: Mapping[str, float] | None = None) -> Array:
-        """Each area's own value plus ``Σ gain·weight`` of its linked poses, clamped to [0, 1].
+        """Each area's own value plus ``Σ gain·curve(weight)`` of its linked poses, clamped to
+        [0, 1] (the curve is linear unless ``curves`` gives the link another).
 
-        A frame costs one small product of the pose weights with a (poses × areas) gain matrix,
-        built again only after the areas or links changed — not a walk over every link.
+        A frame costs one small product of the pose weights with a (poses × areas) gain matrix
+        and one vectorised pass over the curved links, built again only after the areas, links
+        or curves changed — not a walk over every link.
         """
-        gains = self._gains
-        if gains is None or not gains.current(self.areas, self.links):
-            gains = self._gains = _Gains.build(self.areas, self.links)
+        gains = self._derived()
         values = gains.base.copy()
         if pose_weights and gains.rows:
             weights = np.zeros(len(gains.rows))
@@ -108,6 +148,29 @@ class InfluenceSetup:
                 row = gains.rows.get(pose)
                 if row is not None:
                     weights[row] = weight
-            values += weights @ gains.gains
+            gains.add_links(values, weights)
         values[gains.hidden] = 0.0
         return np.clip(values, 0.0, 1.0).astype(np.float32)
+
+    def activations_over(self, poses: Sequence[str], weights: Array) -> Array:
+        """(F, N) float64 activations for F frames at once: ``weights`` (F, len(poses)) holds
+        each frame's pose weights — what the timeline draws, without a call per frame."""
+        gains = self._derived()
+        weights = np.asarray(weights, dtype=np.float64)
+        values = np.repeat(gains.base[None, :], len(weights), axis=0)
+        rows = np.zeros((len(weights), len(gains.rows)))
+        for column, pose in enumerate(poses):
+            row = gains.rows.get(pose)
+            if row is not None:
+                rows[:, row] = weights[:, column]
+        gains.add_links(values, rows)
+        values[:, gains.hidden] = 0.0
+        return np.clip(values, 0.0, 1.0)
+
+    def _derived(self) -> _Gains:
+        """The gain matrix and curve bank, built again only if the areas, links or curves
+        changed since the last call."""
+        gains = self._gains
+        if gains is None or not gains.current(self.areas, self.links, self.curves):
+            gains = self._gains = _Gains.build(self.areas, self.links, self.curves)
+        return gains

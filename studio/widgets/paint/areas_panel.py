@@ -46,6 +46,7 @@ from studio.core.wrinkles.surface_mirror import SurfaceMirror
 from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
 from studio.widgets.paint import edits as mask_edits
+from studio.widgets.paint.link_editor import LinkEditor
 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga *.webp)"
 MIRROR_MODES = {
@@ -216,6 +217,7 @@ class AreasPanel(QScrollArea):
         self.state = state
         self.rows: list[AreaRow] = []
         self.link_spins: dict[str, QDoubleSpinBox] = {}
+        self.link_editors: dict[str, LinkEditor] = {}
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setMinimumWidth(380)
@@ -233,6 +235,7 @@ class AreasPanel(QScrollArea):
         document.texturesChanged.connect(self._show_links)
         document.masksChanged.connect(self._show_resolution)
         document.activationsChanged.connect(self._show_values)
+        document.curvesChanged.connect(self._show_curves)
         document.poseWeightsChanged.connect(self._show_values)
         document.posesChanged.connect(self._rebuild)
         state.changed.connect(self._show_brush)
@@ -377,7 +380,8 @@ class AreasPanel(QScrollArea):
     def _build_links(self) -> QGroupBox:
         box = QGroupBox("Selected area: wrinkled map and pose links")
         v = QVBoxLayout(box)
-        note = QLabel("Moving toward a pose raises this area's activation by gain × weight.")
+        note = QLabel("Moving toward a pose raises this area's activation by gain × "
+                      "curve(weight); the curve shapes how (linear unless chosen).")
         note.setWordWrap(True)
         v.addWidget(note)
         self.links_form = QFormLayout()
@@ -474,6 +478,7 @@ class AreasPanel(QScrollArea):
         while self.links_form.rowCount():
             self.links_form.removeRow(0)
         self.link_spins = {}
+        self.link_editors = {}
         area = self.active_area()
         if area is None:
             self.links_form.addRow(QLabel("No area selected."))
@@ -488,18 +493,15 @@ class AreasPanel(QScrollArea):
         index = self.state.active
         self.map_combo.activated.connect(lambda i: self._map_chosen(index, i))
         self.links_form.addRow("Wrinkled map", self.map_combo)
-        links = self.doc.project.influence.links
         for pose in self.doc.project.poses:
-            spin = QDoubleSpinBox()
-            spin.setRange(0.0, 2.0)
-            spin.setSingleStep(0.1)
-            spin.setKeyboardTracking(False)
-            spin.setSpecialValueText("not linked")
-            spin.setValue(links.get(pose.name, {}).get(area.name, 0.0))
-            spin.valueChanged.connect(
-                lambda g, p=pose.name, a=area.name: mask_edits.set_link(self.doc, p, a, g))
-            self.links_form.addRow(pose.name.replace("_", " "), spin)
-            self.link_spins[pose.name] = spin
+            editor = LinkEditor(self.doc, pose.name, area.name)
+            self.links_form.addRow(pose.name.replace("_", " "), editor)
+            self.link_editors[pose.name] = editor
+            self.link_spins[pose.name] = editor.spin
+
+    def _show_curves(self) -> None:
+        for editor in self.link_editors.values():
+            editor.refresh()
 
     def _map_chosen(self, index: int, row: int) -> None:
         name = self.map_combo.itemData(row)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 from PySide6.QtGui import QUndoCommand
@@ -22,10 +23,12 @@ from studio.core.setup.mirror_area import mirrored_area
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.brush import Brush, Mirror, Rect, Stroke, tile_changes
 from studio.core.wrinkles.influence import InfluenceArea
+from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.surface_mirror import SurfaceMirror
 from studio.widgets.document import Document
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp"}
+T = TypeVar("T")  # a link's gain, or its curve
 PALETTE = [(230, 75, 60), (70, 200, 80), (70, 110, 240), (240, 210, 40), (220, 60, 220),
            (40, 210, 220), (250, 140, 30), (150, 90, 250), (255, 120, 160), (160, 220, 60)]
 
@@ -120,23 +123,39 @@ class PaintSession:
 
 # --- the list of areas ---------------------------------------------------------------------------
 
+Curves = dict[str, dict[str, ResponseCurve]]  # pose -> {area: curve}
+
+
+def _copy_curves(curves: Curves, keep: set[str] | None = None) -> Curves:
+    """A copy of the link curves (curves are immutable: one level deeper is enough), only those
+    of the areas named in ``keep`` when given, so no curve outlives its area."""
+    copied = {p: {a: c for a, c in by_area.items() if keep is None or a in keep}
+              for p, by_area in curves.items()}
+    return {p: by_area for p, by_area in copied.items() if by_area}
+
+
 class AreasCommand(QUndoCommand):
-    """Replaces the area list and the links together (add, duplicate, delete, reorder, import).
-    Areas are kept by reference, so this stores no pixels."""
+    """Replaces the area list, the links and their curves together (add, duplicate, delete,
+    reorder, import). Areas are kept by reference, so this stores no pixels."""
 
     def __init__(self, doc: Document, text: str, areas: list[InfluenceArea],
-                 links: dict[str, dict[str, float]] | None = None) -> None:
+                 links: dict[str, dict[str, float]] | None = None,
+                 curves: Curves | None = None) -> None:
         super().__init__(text)
         self.doc = doc
         influence = doc.project.influence
-        self.old = (list(influence.areas), copy.deepcopy(influence.links))
-        self.new = (list(areas), copy.deepcopy(influence.links if links is None else links))
+        self.old = (list(influence.areas), copy.deepcopy(influence.links),
+                    _copy_curves(influence.curves))
+        self.new = (list(areas), copy.deepcopy(influence.links if links is None else links),
+                    _copy_curves(influence.curves if curves is None else curves,
+                                 {a.name for a in areas}))
 
     def _apply(self, state) -> None:
         influence = self.doc.project.influence
         old_count = len(influence.areas)
         influence.areas[:] = state[0]
         influence.links = copy.deepcopy(state[1])
+        influence.curves = _copy_curves(state[2])
         self.doc.areasChanged.emit()
         self.doc.masksChanged.emit()  # the texture array's layers follow the list
         if old_count != len(state[0]):
@@ -149,8 +168,9 @@ class AreasCommand(QUndoCommand):
         self._apply(self.old)
 
 
-def _links_without(links: dict[str, dict[str, float]], names: Iterable[str]
-                   ) -> dict[str, dict[str, float]]:
+def _links_without(links: dict[str, dict[str, T]], names: Iterable[str]
+                      ) -> dict[str, dict[str, T]]:
+    """The links (or their curves) without those of the areas ``names``."""
     gone = set(names)
     return {p: {a: g for a, g in gains.items() if a not in gone} for p, gains in links.items()}
 
@@ -196,15 +216,19 @@ def mirror_area(doc: Document, index: int, mirror: SurfaceMirror) -> InfluenceAr
     influence = doc.project.influence
     areas = list(influence.areas)
     links = copy.deepcopy(influence.links)
+    curves = _copy_curves(influence.curves)
     if made.replaces is None:
         areas.insert(index + 1, made.area)
     else:
         areas[made.replaces] = made.area
         links = _links_without(links, [made.area.name])
+        curves = _links_without(curves, [made.area.name])
     for pose, gain in made.links.items():
         links.setdefault(pose, {})[made.area.name] = gain
+    for pose, curve in made.curves.items():
+        curves.setdefault(pose, {})[made.area.name] = curve
     doc.undo_stack.push(AreasCommand(doc, f"Mirror {influence.areas[index].name} to "
-                                          f"{made.area.name}", areas, links))
+                                          f"{made.area.name}", areas, links, curves))
     return made.area
 
 
@@ -250,9 +274,9 @@ def rename_area(doc: Document, index: int, name: str) -> bool:
     def apply(new: str) -> None:
         old = area.name
         area.name = new
-        for gains in influence.links.values():
-            if old in gains:
-                gains[new] = gains.pop(old)
+        for table in (*influence.links.values(), *influence.curves.values()):
+            if old in table:
+                table[new] = table.pop(old)
 
     doc.undo_stack.push(AreaValueCommand(doc, area, f"Rename {area.name} to {name}",
                                          lambda: area.name, apply, name))

@@ -56,24 +56,15 @@ def activation_curves(project: Project, frames: np.ndarray, base: dict[str, floa
     """Pose weights and technique-1 activations at many frames at once.
 
     Poses without keys keep their ``base`` weight (as ``Document.show_frame`` does); the
-    activations follow ``InfluenceSetup.activations`` — own value plus Σ gain·weight, hidden
-    areas at 0, clamped — as one matrix product instead of a call per frame.
+    activations are ``InfluenceSetup.activations_over`` — own value plus Σ gain·curve(weight),
+    hidden areas at 0, clamped — for every frame at once instead of a call per frame.
     """
     timeline, influence = project.timeline, project.influence
     animated = {t.pose: t.values_at(frames) for t in timeline.tracks if t.keys}
     names = [p.name for p in project.poses]
     weights = np.stack([animated.get(n, np.full(len(frames), base.get(n, 0.0))) for n in names],
                        axis=1) if names else np.zeros((len(frames), 0))
-    areas = {a.name: i for i, a in enumerate(influence.areas)}
-    gains = np.zeros((len(names), len(areas)))
-    for p, pose in enumerate(names):
-        for area, gain in influence.links.get(pose, {}).items():
-            if area in areas:
-                gains[p, areas[area]] += gain
-    own = np.array([a.activation for a in influence.areas])
-    visible = np.array([a.visible for a in influence.areas], dtype=bool)
-    act = np.clip((own + weights @ gains) * visible, 0.0, 1.0)
-    return animated, act
+    return animated, influence.activations_over(names, weights)
 
 
 class TrackViewBox(pg.ViewBox):

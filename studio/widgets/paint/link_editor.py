@@ -1,0 +1,76 @@
+"""One pose's link to the selected influence area in the Areas panel: its gain, its response
+curve's kind and the curve's plot.
+
+The gain spin box is the link itself (0 = not linked); the curve choice and the plot are made
+only for a linked pose (the panel makes the editors again whenever the links change), so an
+ARKit face's 52 poses cost 52 spin boxes, not 52 plots of ~10 ms each. Every change is
+an undo command (edits.set_link, curve_edits.set_link_curve); the editor shows the document back
+on ``refresh``, which the panel calls when the curves change (an edit, its undo or redo).
+"""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QHBoxLayout, QVBoxLayout, QWidget
+
+from studio.core.wrinkles.response import LABELS, ResponseCurve
+from studio.core.wrinkles.response_handles import converted
+from studio.widgets.document import Document
+from studio.widgets.paint import edits
+from studio.widgets.paint.curve_edits import link_curve, set_link_curve
+from studio.widgets.paint.curve_plot import CurvePlot
+
+
+class LinkEditor(QWidget):
+    def __init__(self, doc: Document, pose: str, area: str) -> None:
+        super().__init__()
+        self.doc, self.pose, self.area = doc, pose, area
+        self.spin = QDoubleSpinBox()
+        self.spin.setRange(0.0, 2.0)
+        self.spin.setSingleStep(0.1)
+        self.spin.setKeyboardTracking(False)
+        self.spin.setSpecialValueText("not linked")
+        self.spin.setToolTip("Gain: the most this pose adds to the area's activation")
+        gain = doc.project.influence.links.get(pose, {}).get(area, 0.0)
+        self.spin.setValue(gain)
+        self.spin.valueChanged.connect(lambda g: edits.set_link(doc, pose, area, g))
+        top = QHBoxLayout()
+        top.setContentsMargins(0, 0, 0, 0)
+        top.addWidget(self.spin, 1)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addLayout(top)
+        self.kind: QComboBox | None = None
+        self.plot: CurvePlot | None = None
+        if gain != 0.0:
+            self.kind = QComboBox()
+            for kind, label in LABELS.items():
+                self.kind.addItem(label, kind)
+            self.kind.setToolTip("Response curve: how the pose's weight becomes its "
+                                 "contribution (gain × curve(weight))")
+            self.kind.setObjectName(f"curve:{pose}")
+            self.plot = CurvePlot()
+            top.addWidget(self.kind, 1)
+            layout.addWidget(self.plot)
+            self.refresh()
+            self.kind.activated.connect(self._kind_chosen)
+            self.plot.edited.connect(self._edited)
+
+    def curve(self) -> ResponseCurve:
+        return link_curve(self.doc, self.pose, self.area)
+
+    def refresh(self) -> None:
+        """Show the link's curve as the document has it (nothing to show for no link)."""
+        if self.kind is None or self.plot is None:
+            return
+        curve = self.curve()
+        self.kind.blockSignals(True)
+        self.kind.setCurrentIndex(self.kind.findData(curve.kind))
+        self.kind.blockSignals(False)
+        self.plot.show_curve(curve)
+
+    def _kind_chosen(self, row: int) -> None:
+        assert self.kind is not None  # connected only when made
+        self._edited(converted(self.curve(), self.kind.itemData(row)), None)
+
+    def _edited(self, curve: ResponseCurve, gesture: int | None) -> None:
+        set_link_curve(self.doc, self.pose, self.area, curve, gesture)
