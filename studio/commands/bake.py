@@ -42,6 +42,7 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.meshio import load_mesh
     from studio.core.project_file import load_project, save_project
     from studio.core.safe_io import check_output
+    from studio.core.view_settings import saved_view
 
     if not args.png and not args.output:
         raise StudioError("say where the map goes: --png OUT.png and/or -o OUT.wrinkle")
@@ -61,7 +62,8 @@ def run(args: argparse.Namespace) -> int:
     current = textures.wrinkle_maps[name]
     distance = default_max_distance(project.mesh) if args.distance is None else args.distance
     result = bake_normal_map(project.mesh, load_mesh(args.high), args.size or current.shape[1],
-                             distance, bits=16 if current.dtype.itemsize == 2 else 8)
+                             distance, bits=16 if current.dtype.itemsize == 2 else 8,
+                             tangent_frame=saved_view(project.view).tangent_frame)
     check_hits(result, project.mesh, distance, args.high)
     textures.set_wrinkle_map(name, result.image)
     if args.png:

@@ -39,8 +39,10 @@ def packed_masks(project: Project) -> list[np.ndarray]:
     return images
 
 
-def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[Path]:
-    """Write everything an engine needs into ``folder``; returns the files written."""
+def export_folder(project: Project, folder: str | Path, bits: int = 16,
+                  tangent_frame: str | None = None) -> list[Path]:
+    """Write everything an engine needs into ``folder``; returns the files written.
+    ``tangent_frame`` as for ``save_gltf`` (default: the project's)."""
     folder = Path(folder)
     try:
         (folder / "masks").mkdir(parents=True, exist_ok=True)
@@ -49,7 +51,7 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[
     except OSError as exc:
         raise StudioError(f"cannot create the export folder: {exc.strerror}", folder) from None
     written = [folder / "face.glb"]
-    save_gltf(project, written[0])
+    save_gltf(project, written[0], tangent_frame)
     scale, dtype = (65535.0, np.uint16) if bits == 16 else (255.0, np.uint8)
     areas = project.influence.areas
     layout = []

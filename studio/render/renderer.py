@@ -20,6 +20,7 @@ from studio.core.mask_sparse import quantise, sparse_masks
 from studio.core.mesh import FaceMesh
 from studio.core.relief import DEFAULT_RELIEF_DEPTH, maps_digest, relief_image
 from studio.core.strain import DEFAULT_FULL_AT, StrainField
+from studio.core.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
 from studio.core.textures import FaceTextures, pack_more_maps, pack_normal_maps
 from studio.core.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS
@@ -52,13 +53,15 @@ class RenderSettings:
     strain_full_at: float = DEFAULT_FULL_AT  # compression at which strain wrinkles fully show
     relief: str = "off"  # off | displace (tessellation, GL 4.0) | parallax: wrinkles in depth
     relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
+    tangent_frame: str = DEFAULT_TANGENT_FRAME  # mikktspace | thesis: how the maps are read
 
     def __post_init__(self) -> None:
         for value, allowed, what in ((self.technique, tuple(TECHNIQUES), "technique"),
                                      (self.view, tuple(VIEW_MODES), "view"),
                                      (self.blend, BLENDS, "blend"),
                                      (self.t1_mode, T1_MODES, "technique-1 mode"),
-                                     (self.relief, RELIEFS, "relief")):
+                                     (self.relief, RELIEFS, "relief"),
+                                     (self.tangent_frame, TANGENT_FRAMES, "tangent frame")):
             if value not in allowed:
                 raise ValueError(f"unknown {what} '{value}' (choose from {allowed})")
         if not 0.0 <= self.relief_depth < float("inf"):
@@ -446,6 +449,9 @@ class FaceRenderer:
                               "'parallax' instead")
         if relief != "off":
             self._ensure_relief()
+        if settings.tangent_frame != self._deform.frame:  # the vertex buffer's tangents follow
+            self._deform.set_frame(settings.tangent_frame)
+            self._geometry_dirty = True
         if self._geometry_dirty:
             start = time.perf_counter()
             attributes = self._deform.update(self._positions)

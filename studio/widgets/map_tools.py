@@ -225,14 +225,16 @@ class MapTools:
         if name:
             from studio.core.gltf import save_gltf
 
-            self._export(lambda: save_gltf(self.doc.project, Path(name)), name)
+            self._export(lambda: save_gltf(self.doc.project, Path(name),
+                                           self.doc.view.tangent_frame), name)
 
     def export_folder(self) -> None:
         name = QFileDialog.getExistingDirectory(self.window, "Export for a game engine")
         if name:
             from studio.core.export import export_folder
 
-            self._export(lambda: export_folder(self.doc.project, name), name)
+            self._export(lambda: export_folder(self.doc.project, name,
+                                               tangent_frame=self.doc.view.tangent_frame), name)
 
     def _export(self, write, target: str) -> None:
         try:
