@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs Wrinkle Studio into .venv on a fresh Debian 12 / Python 3.11 machine: the Debian
-# packages for OpenGL (Mesa EGL), Xvfb and Qt's xcb platform, then the Python packages.
+# packages for OpenGL (Mesa EGL), Xvfb, Qt's xcb platform and Node.js, then the Python packages
+# (and, with the test extra, the Khronos glTF validator from npm).
 # Usage: bash scripts/setup.sh [pip extras, e.g. test]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,3 +21,8 @@ fi
 .venv/bin/python -m pip install -q --upgrade pip >/dev/null
 extras=${1:-}
 .venv/bin/python -m pip install -q -e ".${extras:+[$extras]}"
+# The tests run the Khronos glTF validator over every export (tests/test_gltf_validator.py): its
+# npm package, pinned, into .node/ (git-ignored), read by scripts/validate_gltf.js.
+if [[ ",$extras," == *",test,"* ]]; then
+  npm install --silent --no-audit --no-fund --prefix .node gltf-validator@2.0.0-dev.3.10 >/dev/null
+fi
