@@ -83,8 +83,10 @@ class _Timed:
         self.timeline = sequence_all_poses([p.name for p in project.poses], fps=24.0)
         self.studio = OffscreenStudio(project, *size, samples=0, ctx=ctx)
         self.studio.renderer.split_draws = config.draw == "split"
+        # the thesis's frame: its timings include recomputing that frame, nothing more
         self.settings = render_settings(ViewSettings(technique=config.technique,
-                                                     relief=config.relief))
+                                                     relief=config.relief,
+                                                     tangent_frame="thesis"))
         self.times: list[float] = []
         self._frame = 0
 

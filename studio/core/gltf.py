@@ -3,12 +3,17 @@ engine can use.
 
 Import: the first triangle primitive with UVs; its morph targets become key poses (named from
 ``extras.targetNames``); the material's base-colour and normal textures become the diffuse and
-neutral normal maps. Export: render vertices with UVs, one morph target per key pose, the
-textures, and each technique-2 area as custom vertex attributes ``_WRINKLE_DIR_<n>`` (VEC3) and
-``_WRINKLE_LEN_<n>`` (SCALAR), plus ``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where
-painted and ``_NOT_FACE`` (1 on vertices never wrinkled) where marked. Everything else the
-studio authored (masks as 16-bit PNG images, further wrinkled maps, which map each area reveals,
-links, cone angles, the timeline) rides in ``extras.wrinkleStudio``, so a file exported here
+neutral normal maps; without the studio's extras, a weights animation becomes the timeline
+(core/gltf_animation.py). Export: render vertices with UVs, NORMAL and TANGENT in the project's
+tangent frame (so viewers read the normal maps as the studio does), one morph target per key pose
+(with its change of normal and tangent), the textures, every wrinkled map and mask also as a
+KHR_materials_variants material (masks unlit; viewers list them, the Khronos validator counts
+them used), the timeline as a morph-weight animation, and each technique-2 area as custom vertex
+attributes ``_WRINKLE_DIR_<n>`` (VEC3) and ``_WRINKLE_LEN_<n>`` (SCALAR), plus
+``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where painted and ``_NOT_FACE`` (1 on
+vertices never wrinkled) where marked. Everything else the studio authored (masks as 16-bit PNG
+images, further wrinkled maps, which map each area reveals, links, cone angles, the timeline, the
+tangent frame) rides in ``extras.wrinkleStudio``, so a file exported here
 imports back with nothing lost.
 """
 
