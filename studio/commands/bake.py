@@ -41,6 +41,7 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.files.safe_io import check_output
     from studio.core.mesh.meshio import load_mesh
     from studio.core.project.reader import load_project
+    from studio.core.project.view_settings import saved_view
     from studio.core.project.writer import save_project
     from studio.core.wrinkles.bake import bake_normal_map, check_hits, default_max_distance
 
@@ -62,7 +63,8 @@ def run(args: argparse.Namespace) -> int:
     current = textures.wrinkle_maps[name]
     distance = default_max_distance(project.mesh) if args.distance is None else args.distance
     result = bake_normal_map(project.mesh, load_mesh(args.high), args.size or current.shape[1],
-                             distance, bits=16 if current.dtype.itemsize == 2 else 8)
+                             distance, bits=16 if current.dtype.itemsize == 2 else 8,
+                             tangent_frame=saved_view(project.view).tangent_frame)
     check_hits(result, project.mesh, distance, args.high)
     textures.set_wrinkle_map(name, result.image)
     if args.png:

@@ -30,13 +30,22 @@ class DeformPass:
         self.dirty = True
         self.last_ms = 0.0  # CPU time of the last normals + tangents update
 
+    @property
+    def frame(self) -> str:
+        """The tangent frame the vertex buffer holds (set by ``upload``)."""
+        return self._cache.frame
+
     def set_positions(self, welded_positions: np.ndarray) -> None:
         np.copyto(self.positions, welded_positions)
         self.dirty = True
         self.version += 1
 
-    def upload(self) -> None:
-        """Normals and tangents for the new pose, written where the pose moved the face."""
+    def upload(self, tangent_frame: str) -> None:
+        """Normals and tangents for the new pose (tangents in ``tangent_frame``), written where
+        the pose moved the face; all of them again when the frame changes."""
+        if tangent_frame != self._cache.frame:
+            self._cache.set_frame(tangent_frame)
+            self.dirty = True
         if not self.dirty:
             return
         start = time.perf_counter()

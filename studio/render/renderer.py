@@ -15,6 +15,7 @@ import numpy as np
 from studio.core.files.errors import RenderError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.project.view_settings import BLENDS, RELIEFS
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
 from studio.core.wrinkles.strain import DEFAULT_FULL_AT
@@ -47,13 +48,15 @@ class RenderSettings:
     strain_full_at: float = DEFAULT_FULL_AT  # compression at which strain wrinkles fully show
     relief: str = "off"  # off | displace (tessellation, GL 4.0) | parallax: wrinkles in depth
     relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
+    tangent_frame: str = DEFAULT_TANGENT_FRAME  # mikktspace | thesis: how the maps are read
 
     def __post_init__(self) -> None:
         for value, allowed, what in ((self.technique, tuple(TECHNIQUES), "technique"),
                                      (self.view, tuple(VIEW_MODES), "view"),
                                      (self.blend, BLENDS, "blend"),
                                      (self.t1_mode, T1_MODES, "technique-1 mode"),
-                                     (self.relief, RELIEFS, "relief")):
+                                     (self.relief, RELIEFS, "relief"),
+                                     (self.tangent_frame, TANGENT_FRAMES, "tangent frame")):
             if value not in allowed:
                 raise ValueError(f"unknown {what} '{value}' (choose from {allowed})")
         if not 0.0 <= self.relief_depth < float("inf"):
@@ -179,7 +182,7 @@ class FaceRenderer:
         # the passes before the draw, each doing nothing unless its inputs changed
         if relief != "off":
             self.relief.prepare()
-        self.deform.upload()
+        self.deform.upload(settings.tangent_frame)
         ctx = self.ctx
         # set every piece of state the passes rely on: the viewport's overlays may leave any on
         ctx.disable(moderngl.BLEND | moderngl.CULL_FACE)

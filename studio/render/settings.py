@@ -15,4 +15,4 @@ def render_settings(view: ViewSettings, *, technique: str | None = None,
     return RenderSettings(technique=technique or view.technique, view=view.debug_view,
                           wireframe=view.wireframe, light_dir=view.light_dir(),
                           blend=view.blend, relief=relief or view.relief,
-                          relief_depth=view.relief_depth)
+                          relief_depth=view.relief_depth, tangent_frame=view.tangent_frame)

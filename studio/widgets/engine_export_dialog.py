@@ -86,7 +86,8 @@ def open_engine_export(window) -> None:
     key, folder = dialog.choice()
     doc = window.doc
     try:
-        plan, files = export_layout(doc.project, folder, key, inputs=[doc.path])
+        plan, files = export_layout(doc.project, folder, key, inputs=[doc.path],
+                                    tangent_frame=doc.view.tangent_frame)
     except StudioError as exc:
         window.show_error("Cannot export", exc)
         return

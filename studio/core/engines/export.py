@@ -37,8 +37,11 @@ FLEX_TABLE = "flex_wrinkles.csv"  # Source: per-vertex wrinkle weight of each fl
 
 
 def export_layout(project: Project, folder: str | Path, key: str, bits: int = 16,
-                  inputs: Iterable[str | Path | None] = ()) -> tuple[Plan, list[Path]]:
-    """Write the layout ``key`` into ``folder``; (the plan, the files written).
+                  inputs: Iterable[str | Path | None] = (),
+                  tangent_frame: str | None = None) -> tuple[Plan, list[Path]]:
+    """Write the layout ``key`` into ``folder``; (the plan, the files written). The model's
+    tangents are in ``tangent_frame`` (default: the project's saved view's), the frame the
+    maps were made for.
 
     Raises a LayoutError (nothing written) when the engine cannot hold the project, and a
     StudioError when a destination is one of ``inputs`` or cannot be written.
@@ -50,9 +53,9 @@ def export_layout(project: Project, folder: str | Path, key: str, bits: int = 16
     for name in planned_files(plan):
         check_output(folder / name, inputs, make_folders=True, what="export file")
     if plan.layout.kind == "per_area":  # the studio's own folder export, as it always was
-        written = export_folder(project, folder, bits)
+        written = export_folder(project, folder, bits, tangent_frame)
     else:
-        written = _write_engine(project, plan, folder)
+        written = _write_engine(project, plan, folder, tangent_frame)
     sheet = folder / SHEET
     write_atomic(sheet, json.dumps(layout_sheet(project, plan), indent=2).encode("utf-8"),
                  what="layout sheet")
@@ -66,11 +69,12 @@ def planned_files(plan: Plan) -> list[str]:
             *extra]
 
 
-def _write_engine(project: Project, plan: Plan, folder: Path) -> list[Path]:
+def _write_engine(project: Project, plan: Plan, folder: Path,
+                  tangent_frame: str | None) -> list[Path]:
     files = planned_files(plan)
     make_folders(folder, sorted({str(Path(f).parent) for f in files}))
     written = [folder / MODEL_FILE]
-    save_gltf(project, written[0])
+    save_gltf(project, written[0], tangent_frame)
     for texture in plan.masks:
         written += _write_tiled(project, folder / texture.file, mask_texture(project, texture))
     for slot in plan.maps:

@@ -31,18 +31,19 @@ from typing import ClassVar
 import numpy as np
 
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.tangent_frames import (
+    TANGENT_FRAMES,
+    TANGENT_KEEP,
+    UV_SINE,
+    MikkTSpaceFrame,
+    perpendicular,
+)
 
 Array = np.ndarray
 
 #: Fallback normal for vertices that touch no triangle of non-zero area.
 FALLBACK_NORMAL = (0.0, 0.0, 1.0)
 
-# A UV triangle counts as degenerate when |det| <= _UV_SINE * |e1|·|e2|, i.e. when its UV edges
-# are parallel to within ~1e-7 rad: 1/det would otherwise explode (or be inf for det == 0).
-_UV_SINE = 1e-7
-# A tangent is unusable when, after removing its normal component, less than this fraction of its
-# length is left (it was parallel to the normal): its direction would be rounding noise.
-_TANGENT_KEEP = 1e-4
 _TINY32 = float(np.finfo(np.float32).tiny)
 
 # Vertices are grouped by how many corners they own; groups smaller than this are padded into the
@@ -130,19 +131,10 @@ def _uv_coefficients(uvs: Array, triangles: Array) -> tuple[Array, Array, Array,
     s2, t2 = d2[:, 0], d2[:, 1]
     det = s1 * t2 - s2 * t1
     scale = np.sqrt((s1 * s1 + t1 * t1) * (s2 * s2 + t2 * t2))
-    ok = (np.abs(det) > _UV_SINE * scale) & (det != 0.0)
+    ok = (np.abs(det) > UV_SINE * scale) & (det != 0.0)
     r = np.zeros_like(det)
     np.divide(1.0, det, out=r, where=ok)
     return r * t2, -r * t1, -r * s2, r * s1
-
-
-def _perpendicular(normals: Array) -> Array:
-    """Some unit vector perpendicular to each (unit) normal, for vertices without a tangent."""
-    n = np.asarray(normals, dtype=np.float64)
-    # Cross with the coordinate axis least aligned with n: never parallel, so never zero.
-    axis = np.zeros_like(n)
-    axis[np.arange(len(n)), np.argmin(np.abs(n), axis=1)] = 1.0
-    return _normalise_rows(np.cross(n, axis), (1.0, 0.0, 0.0))
 
 
 def vertex_tangents(
@@ -171,12 +163,12 @@ def vertex_tangents(
     ortho = t_sum - np.einsum("ij,ij->i", n, t_sum)[:, None] * n
     t_len2 = np.einsum("ij,ij->i", t_sum, t_sum)
     o_len2 = np.einsum("ij,ij->i", ortho, ortho)
-    usable = (o_len2 > _TANGENT_KEEP**2 * t_len2) & (o_len2 > _TINY32)
+    usable = (o_len2 > TANGENT_KEEP**2 * t_len2) & (o_len2 > _TINY32)
     out = np.empty((n_vertices, 4), dtype=np.float64)
     out[:, :3] = _normalise_rows(ortho, (1.0, 0.0, 0.0))
     out[:, 3] = np.where(np.einsum("ij,ij->i", np.cross(n, t_sum), b_sum) < 0.0, -1.0, 1.0)
     if not usable.all():
-        out[~usable, :3] = _perpendicular(n[~usable])
+        out[~usable, :3] = perpendicular(n[~usable])
         out[~usable, 3] = 1.0
     return out
 
@@ -357,7 +349,9 @@ class DeformCache:
     ``(V, 10) float32`` per render vertex ``[x, y, z, nx, ny, nz, tx, ty, tz, w]``. Normals are
     summed over the welded triangles (area-weighted) so split seam vertices share one normal;
     tangents are summed over render vertices (they depend on the UVs) and orthogonalised against
-    that welded normal. The returned array is reused by later calls, which also read it back:
+    that welded normal. ``frame`` picks the tangent frame (studio.core.mesh.tangent_frames):
+    ``thesis`` (Lengyel, above) or ``mikktspace`` (angle-weighted unit tangents per UV side,
+    the bakers' convention). The returned array is reused by later calls, which also read it back:
     copy it to keep it, never write to it.
 
     How it stays fast: per-triangle maths runs on contiguous float32 component arrays, with the
@@ -369,8 +363,10 @@ class DeformCache:
     (``last_recomputed`` says how many vertices a frame redid).
     """
 
-    def __init__(self, mesh: FaceMesh) -> None:
+    def __init__(self, mesh: FaceMesh, frame: str = "thesis") -> None:
         self.mesh = mesh
+        self._mikk: MikkTSpaceFrame | None = None
+        self.frame = "thesis"
         tri = mesh.triangles.astype(np.intp)
         n_f = len(tri)
         n_v = mesh.n_vertices
@@ -464,6 +460,22 @@ class DeformCache:
         self._sub_sums_z = np.empty(n_v, f32)
         self._sub_row = np.empty((n_v, 10), f32)
 
+        self.set_frame(frame)
+
+    def set_frame(self, frame: str) -> None:
+        """Which tangent frame columns 6–9 hold (studio.core.mesh.tangent_frames): ``thesis`` is
+        Lengyel's, computed with the normals; ``mikktspace`` replaces it after them (its UV
+        work is done once, on first use). Changing it makes the next ``update`` whole."""
+        if frame not in TANGENT_FRAMES:
+            raise ValueError(f"unknown tangent frame '{frame}' (choose from "
+                             f"{', '.join(TANGENT_FRAMES)})")
+        if frame == "mikktspace" and self._mikk is None:
+            mesh = self.mesh
+            self._mikk = MikkTSpaceFrame(mesh.triangles, mesh.uvs, mesh.weld, mesh.rest)
+        if frame != self.frame:
+            self._valid = False
+        self.frame = frame
+
     @property
     def buffer(self) -> Array:
         """The ``(V, 10)`` array ``update`` fills (valid after the first call)."""
@@ -485,6 +497,11 @@ class DeformCache:
             if len(region.rows):
                 self._update_some(region)
             self.last_recomputed, self.last_span = len(region.rows), region.span
+        if self._mikk is not None and self.frame == "mikktspace" and self.last_recomputed:
+            # Over the whole mesh: a vertex outside the recomputed span keeps its inputs, so
+            # its tangent comes out the same and the span still bounds what changed.
+            out = self._out
+            out[:, 6:10] = self._mikk.tangents(self._pos_t.T, out[:, 3:6])
         return self._out
 
     # --- a whole frame ----------------------------------------------------------------------
@@ -694,7 +711,7 @@ class DeformCache:
             np.multiply(n[comp], v1, out=v2)
             t[comp] -= v2
         _dot(t, t, v1, v2)  # |T'|²
-        np.multiply(v3, np.float32(_TANGENT_KEEP**2), out=v3)
+        np.multiply(v3, np.float32(TANGENT_KEEP**2), out=v3)
         np.maximum(v3, _TINY32, out=v3)
         np.less_equal(v1, v3, out=mask)
         np.maximum(v1, _TINY32, out=v1)
@@ -702,7 +719,7 @@ class DeformCache:
         np.divide(1.0, v1, out=v1)
         t *= v1
         if mask.any():
-            t[:, mask] = _perpendicular(n[:, mask].T).T
+            t[:, mask] = perpendicular(n[:, mask].T).T
             row[mask, 9] = 1.0
         for comp in range(3):
             row[:, 3 + comp] = n[comp]

@@ -79,12 +79,14 @@ def uv_tiles_note(project: Project) -> dict:
                                  "NAME.<UDIM>.png hold each skin tile in its own 0-1 square"}}
 
 
-def export_folder(project: Project, folder: str | Path, bits: int = 16) -> list[Path]:
-    """Write everything an engine needs into ``folder``; returns the files written."""
+def export_folder(project: Project, folder: str | Path, bits: int = 16,
+                  tangent_frame: str | None = None) -> list[Path]:
+    """Write everything an engine needs into ``folder``; returns the files written.
+    ``tangent_frame`` as for ``save_gltf`` (default: the project's)."""
     folder = Path(folder)
     make_folders(folder, ("masks", "shaders", "maps"))
     written = [folder / "face.glb"]
-    save_gltf(project, written[0])
+    save_gltf(project, written[0], tangent_frame)
     areas = project.influence.areas
     layout = []
     for i, area in enumerate(areas):

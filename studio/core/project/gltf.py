@@ -3,12 +3,17 @@ engine can use.
 
 Import: the first triangle primitive with UVs; its morph targets become key poses (named from
 ``extras.targetNames``); the material's base-colour and normal textures become the diffuse and
-neutral normal maps. Export: render vertices with UVs, one morph target per key pose, the
-textures, and each technique-2 area as custom vertex attributes ``_WRINKLE_DIR_<n>`` (VEC3) and
-``_WRINKLE_LEN_<n>`` (SCALAR), plus ``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where
-painted and ``_NOT_FACE`` (1 on vertices never wrinkled) where marked. Everything else the
-studio authored (masks as 16-bit PNG images, further wrinkled maps, which map each area reveals,
-links, cone angles, the timeline) rides in ``extras.wrinkleStudio``, so a file exported here
+neutral normal maps; without the studio's extras, a weights animation becomes the timeline
+(core/gltf_animation.py). Export: render vertices with UVs, NORMAL and TANGENT in the project's
+tangent frame (so viewers read the normal maps as the studio does), one morph target per key pose
+(with its change of normal and tangent), the textures, every wrinkled map and mask also as a
+KHR_materials_variants material (masks unlit; viewers list them, the Khronos validator counts
+them used), the timeline as a morph-weight animation, and each technique-2 area as custom vertex
+attributes ``_WRINKLE_DIR_<n>`` (VEC3) and ``_WRINKLE_LEN_<n>`` (SCALAR), plus
+``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where painted and ``_NOT_FACE`` (1 on
+vertices never wrinkled) where marked. Everything else the studio authored (masks as 16-bit PNG
+images, further wrinkled maps, which map each area reveals, links, cone angles, the timeline, the
+tangent frame) rides in ``extras.wrinkleStudio``, so a file exported here
 imports back with nothing lost.
 """
 
@@ -29,9 +34,13 @@ from studio.core.files.images import decode_image
 from studio.core.files.png import encode_png
 from studio.core.files.safe_io import read_regular
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import DeformCache
 from studio.core.mesh.meshio import mesh_from_render_vertices
+from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
+from studio.core.project.gltf_animation import animation_spec, timeline_from_animation
 from studio.core.project.model import Project
+from studio.core.project.view_settings import saved_view
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 from studio.core.wrinkles.response import curves_from_dict, curves_to_dict
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
@@ -317,7 +326,25 @@ def _load_gltf(path: Path) -> Project:
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise MeshError(f"the studio data in extras.{EXTRAS_KEY} is malformed ({exc})",
                         path) from None
+    if "timeline" not in extras:  # another tool's file: its weights animation, if any
+        try:
+            timeline = _animated_timeline(g, mesh_spec, [p.name for p in poses])
+        except (KeyError, IndexError, TypeError, ValueError) as exc:
+            raise MeshError(f"the morph-weight animation is malformed ({exc})", path) from None
+        if timeline is not None:
+            project.timeline = timeline
     return project
+
+
+def _animated_timeline(g: _Gltf, mesh_spec: dict, pose_names: list[str]) -> Timeline | None:
+    """The timeline the weights animation of the mesh's node plays (first node using it)."""
+    meshes = _list(g, g.doc, "meshes")
+    index = next(i for i, m in enumerate(meshes) if m is mesh_spec)
+    node = next((i for i, n in enumerate(_list(g, g.doc, "nodes"))
+                 if isinstance(n, dict) and n.get("mesh") == index), None)
+    if node is None or not pose_names:
+        return None
+    return timeline_from_animation(g.doc, node, pose_names, g.accessor)
 
 
 def _mesh_with_weld(g: _Gltf, positions: Array, triangles: Array, uvs: Array,
@@ -389,6 +416,8 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
                            bool(wdv.get("scale_free", True)))
     if "timeline" in extras:
         project.timeline = Timeline.from_dict(extras["timeline"])
+    if extras.get("tangent_frame") in TANGENT_FRAMES:  # the frame its maps were made for
+        project.view["view"] = {"tangent_frame": extras["tangent_frame"]}
 
 
 # --- writing ---------------------------------------------------------------------------------
@@ -410,9 +439,13 @@ class _Builder:
         return len(self.views) - 1
 
     def accessor(self, array: Array, kind: str, bounds: bool = False,
-                 indices: bool = False) -> int:
+                 indices: bool = False, vertex: bool = True) -> int:
+        """A float accessor (uint32 for ``indices``) on its own buffer view; ``vertex`` False
+        for data that is not a vertex attribute (animation samplers): such a view must not
+        declare the vertex-buffer target."""
         array = np.ascontiguousarray(array, np.uint32 if indices else np.float32)
-        acc = {"bufferView": self.view(array.tobytes(), 34963 if indices else 34962),
+        target = 34963 if indices else 34962 if vertex else None
+        acc = {"bufferView": self.view(array.tobytes(), target),
                "componentType": 5125 if indices else 5126, "count": len(array), "type": kind}
         if bounds:
             flat = array.reshape(len(array), -1)
@@ -422,9 +455,60 @@ class _Builder:
         return len(self.accessors) - 1
 
 
-def save_gltf(project: Project, path: str | Path) -> None:
-    """Write the project as a binary glTF (.glb)."""
+def _surface_attributes(project: Project, b: _Builder, frame: str) -> tuple[dict, list[dict]]:
+    """NORMAL and TANGENT (VEC4, w = ±1) at rest in the project's tangent frame, and each key
+    pose's change of both as morph-target deltas, so a viewer shades the posed face (and reads
+    the normal maps) as the studio does instead of generating a frame of its own."""
+    mesh = project.mesh
+    cache = DeformCache(mesh, frame)
+    rest = cache.update(mesh.rest).copy()
+    attributes = {"NORMAL": b.accessor(rest[:, 3:6], "VEC3"),
+                  "TANGENT": b.accessor(rest[:, 6:10], "VEC4")}
+    deltas = []
+    for pose in project.poses:
+        posed = cache.update(pose.positions)
+        deltas.append({"NORMAL": b.accessor(posed[:, 3:6] - rest[:, 3:6], "VEC3"),
+                       "TANGENT": b.accessor(posed[:, 6:9] - rest[:, 6:9], "VEC3")})
+    return attributes, deltas
+
+
+def _variants(textures: list[dict], wrinkle_maps: list[dict], masks: list[tuple[str, int]],
+              skin: dict) -> tuple[list[dict], dict, dict]:
+    """Materials showing each wrinkled map and each influence mask on the face, offered as
+    KHR_materials_variants: a viewer that knows the extension lists them by name, and the
+    glTF validator counts their textures and images as used. Returns the extra materials, the
+    root extension and the primitive's mappings (materials numbered after the skin, 0)."""
+    def texture(image: int) -> int:
+        """The texture of an image, made if no texture shows it yet."""
+        for i, spec in enumerate(textures):
+            if spec["source"] == image:
+                return i
+        textures.append({"source": image})
+        return len(textures) - 1
+
+    materials, names = [], []
+    for spec in wrinkle_maps:
+        materials.append({**skin, "name": f"skin, wrinkled: {spec['name']}",
+                          "normalTexture": {"index": texture(spec["image"])}})
+        names.append(f"wrinkled: {spec['name']}")
+    for name, image_index in masks:
+        materials.append({"name": f"mask: {name}", "extensions": {"KHR_materials_unlit": {}},
+                          "pbrMetallicRoughness": {"baseColorTexture": {
+                              "index": texture(image_index)}, "metallicFactor": 0.0}})
+        names.append(f"mask: {name}")
+    root = {"variants": [{"name": n} for n in names]}
+    mappings = {"mappings": [{"material": 1 + i, "variants": [i]} for i in range(len(names))]}
+    return materials, root, mappings
+
+
+def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = None) -> None:
+    """Write the project as a binary glTF (.glb).
+
+    ``tangent_frame`` (default: the one the project's view settings name) is the frame the
+    TANGENT attribute is written in: the one the normal maps were made for.
+    """
     path = Path(path)
+    frame = tangent_frame or saved_view(project.view).tangent_frame
     mesh, weld = project.mesh, project.mesh.weld
     b = _Builder()
     rest = mesh.rest[weld]
@@ -433,6 +517,8 @@ def save_gltf(project: Project, path: str | Path) -> None:
         "TEXCOORD_0": b.accessor(mesh.uvs * [1.0, -1.0] + [0.0, 1.0], "VEC2"),
         "_WELD": b.accessor(weld, "SCALAR"),  # exact in float32 below 2**24 vertices
     }
+    surface, surface_deltas = _surface_attributes(project, b, frame)
+    attributes.update(surface)
     for n, area in enumerate(project.wdv.areas):
         attributes[f"_WRINKLE_DIR_{n}"] = b.accessor(area.directions[weld], "VEC3")
         attributes[f"_WRINKLE_LEN_{n}"] = b.accessor(area.lengths[weld], "SCALAR")
@@ -442,8 +528,8 @@ def save_gltf(project: Project, path: str | Path) -> None:
         attributes["_NOT_FACE"] = b.accessor(project.not_face[weld], "SCALAR")
     if project.uv_tiles is not None:  # the atlas cell's UDIM tile: the original UVs come back
         attributes["_UDIM_TILE"] = b.accessor(project.uv_tiles.vertex_tile, "SCALAR")
-    targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True)}
-               for pose in project.poses]
+    targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True),
+                **deltas} for pose, deltas in zip(project.poses, surface_deltas, strict=True)]
     images: list[dict] = []
 
     def image(array: Array, name: str) -> int:
@@ -463,27 +549,38 @@ def save_gltf(project: Project, path: str | Path) -> None:
          "visible": a.visible, "wrinkle_map": a.wrinkle_map,
          "image": image(np.round(a.mask * 65535.0).astype(np.uint16), f"mask: {a.name}")}
         for a in project.influence.areas]}
+    skin = {"name": "skin", "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.7},
+        "normalTexture": {"index": 1}}
+    variant_materials, variants, mappings = _variants(
+        textures, wrinkle_maps, [(a["name"], a["image"]) for a in influence["areas"]], skin)
     primitive = {"attributes": attributes, "indices": b.accessor(mesh.triangles.ravel(),
                                                                   "SCALAR", indices=True),
-                 "material": 0, "mode": 4}
+                 "material": 0, "mode": 4,
+                 "extensions": {"KHR_materials_variants": mappings}}
     if targets:
         primitive["targets"] = targets
+    animation = animation_spec(project.timeline, [p.name for p in project.poses],
+                               project.influence, b)
+    used = ["KHR_materials_variants"] + (["KHR_materials_unlit"] if influence["areas"] else [])
     doc = {
         "asset": {"version": "2.0", "generator": "Wrinkle Studio"},
+        "extensionsUsed": used,
+        "extensions": {"KHR_materials_variants": variants},
         "scene": 0, "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0, "name": project.name}],
         "meshes": [{"name": project.name, "primitives": [primitive],
                     "weights": [0.0] * len(targets),
                     "extras": {"targetNames": [p.name for p in project.poses]}}],
-        "materials": [{"name": "skin", "pbrMetallicRoughness": {
-            "baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.7},
-            "normalTexture": {"index": 1}, "extras": {"wrinkleNormalTexture": {"index": 2}}}],
+        "materials": [{**skin, "extras": {"wrinkleNormalTexture": {"index": 2}}},
+                      *variant_materials],
         "textures": textures, "images": images,
+        **({"animations": [animation]} if animation else {}),
         "accessors": b.accessors, "bufferViews": b.views,
         "buffers": [{"byteLength": len(b.blob)}],
         "extras": {EXTRAS_KEY: {
             "name": project.name, "influence": influence, "timeline": project.timeline.to_dict(),
-            "wrinkle_maps": wrinkle_maps,
+            "tangent_frame": frame, "wrinkle_maps": wrinkle_maps,
             **({"uv_tiles": project.uv_tiles.layout.to_dict()} if project.uv_tiles else {}),
             "wdv": {"expression_factor": project.wdv.expression_factor,
                     "scale_free": project.wdv.scale_free,

@@ -14,6 +14,7 @@ import math
 from dataclasses import asdict, dataclass, fields, replace
 from typing import Any
 
+from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
 from studio.core.wrinkles.techniques import TECHNIQUES
 
@@ -22,7 +23,8 @@ BLENDS = ("colour", "normal")  # colour: the thesis's mix of two shadings; norma
 RELIEFS = ("off", "displace", "parallax")  # displace: tessellation (OpenGL 4.0); parallax: 3.3
 
 CHOICES: dict[str, tuple[str, ...]] = {"technique": tuple(TECHNIQUES), "debug_view": DEBUG_VIEWS,
-                                       "blend": BLENDS, "relief": RELIEFS}
+                                       "blend": BLENDS, "relief": RELIEFS,
+                                       "tangent_frame": TANGENT_FRAMES}
 
 
 @dataclass(frozen=True)
@@ -36,6 +38,9 @@ class ViewSettings:
     relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
     light_azimuth: float = 30.0  # degrees, camera-relative: 0 = from the viewer, + = from the right
     light_elevation: float = 35.0  # degrees above the view direction
+    # the frame the normal maps are read in (core/tangent_frames.py): it is the project's, as
+    # the baker bakes and the glTF export writes TANGENT in it too
+    tangent_frame: str = DEFAULT_TANGENT_FRAME
 
     def __post_init__(self) -> None:
         for name, allowed in CHOICES.items():
@@ -88,3 +93,9 @@ class ViewSettings:
                 continue
             values[f.name] = value
         return cls(**values)
+
+
+def saved_view(project_view: dict) -> ViewSettings:
+    """The view settings a project saved (``project.view``), defaults where it saved none."""
+    saved = project_view.get("view", {})
+    return ViewSettings.from_dict(saved if isinstance(saved, dict) else {})

@@ -5,7 +5,8 @@ low-polygon face the way the renderer will read the map back:
 
 1. the face is rasterised into UV space: per texel, its triangle and barycentric coordinates,
    hence its position and the renderer's own interpolated normal, tangent and bitangent
-   (``DeformCache`` builds the vertex buffer the renderer uploads; the fragment shader builds
+   (``DeformCache`` builds the vertex buffer the renderer uploads, in the tangent frame the
+   renderer is set to; the fragment shader builds
    ``mat3(normalize(T), normalize(B), normalize(N))`` from the interpolated ones);
 2. a ray along ±N from each texel's position meets the high mesh; the nearest front-facing hit
    within ``max_distance`` gives the interpolated high normal there;
@@ -35,6 +36,7 @@ import numpy as np
 from studio.core.files.errors import Cancelled, MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache, vertex_normals
+from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME
 from studio.core.wrinkles.mask_ops import rasterise_uv
 
 Array = np.ndarray
@@ -75,12 +77,15 @@ Progress = Callable[[float], None]
 
 def bake_normal_map(low: FaceMesh, high: FaceMesh, size: int, max_distance: float, *,
                     bits: int = 8, padding: int = 4, progress: Progress | None = None,
-                    cancelled: Callable[[], bool] | None = None) -> BakeResult:
+                    cancelled: Callable[[], bool] | None = None,
+                    tangent_frame: str = DEFAULT_TANGENT_FRAME) -> BakeResult:
     """The wrinkled normal map of ``high`` as seen from ``low`` (both in their rest pose).
 
     ``max_distance`` is in model units, along the face's normals both ways. ``progress`` gets
     the done fraction 0..1 now and then; ``cancelled`` is polled between chunks and raises
-    ``BakeCancelled`` when it returns True. Raises ``MeshError`` when the UV layouts differ.
+    ``BakeCancelled`` when it returns True. ``tangent_frame`` is the frame the renderer reads
+    the map in (studio.core.mesh.tangent_frames): a map baked in another frame shades wrong.
+    Raises ``MeshError`` when the UV layouts differ.
     """
     if bits not in (8, 16):
         raise ValueError(f"bits must be 8 or 16, got {bits}")
@@ -96,7 +101,7 @@ def bake_normal_map(low: FaceMesh, high: FaceMesh, size: int, max_distance: floa
     report(0.02)
     ids = _triangle_ids(low, size)
     rows, cols = np.nonzero(ids >= 0)
-    frames = _TexelFrames(low)
+    frames = _TexelFrames(low, tangent_frame)
     check()
     report(0.06)
 
@@ -226,8 +231,8 @@ class _TexelFrames:
     """What the renderer interpolates across the face's triangles: the vertex buffer it uploads
     (position, normal, tangent) and the bitangent its vertex shader makes, w·(N×T)."""
 
-    def __init__(self, mesh: FaceMesh) -> None:
-        buffer = DeformCache(mesh).update(mesh.rest).astype(np.float64)
+    def __init__(self, mesh: FaceMesh, tangent_frame: str) -> None:
+        buffer = DeformCache(mesh, tangent_frame).update(mesh.rest).astype(np.float64)
         n, t, w = buffer[:, 3:6], buffer[:, 6:9], buffer[:, 9:10]
         self.triangles = mesh.triangles
         self.attributes = (buffer[:, :3], n, t, w * np.cross(n, t))

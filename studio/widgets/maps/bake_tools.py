@@ -111,9 +111,11 @@ class BakeWorker(QThread):
     failed = Signal(object)  # StudioError
     stopped = Signal()  # cancelled
 
-    def __init__(self, low: FaceMesh, path: Path, size: int, distance: float, bits: int) -> None:
+    def __init__(self, low: FaceMesh, path: Path, size: int, distance: float, bits: int,
+                 tangent_frame: str) -> None:
         super().__init__()
         self.low, self.path, self.size, self.distance, self.bits = low, path, size, distance, bits
+        self.tangent_frame = tangent_frame  # the frame the viewport reads the map in
         self._cancel = threading.Event()
 
     def cancel(self) -> None:
@@ -125,7 +127,7 @@ class BakeWorker(QThread):
             result = bake_normal_map(
                 self.low, high, self.size, self.distance, bits=self.bits,
                 progress=lambda done: self.progressed.emit(round(done * 1000)),
-                cancelled=self._cancel.is_set)
+                cancelled=self._cancel.is_set, tangent_frame=self.tangent_frame)
         except BakeCancelled:
             self.stopped.emit()
         except StudioError as exc:
@@ -175,7 +177,8 @@ class BakeTools(QObject):
         project = self.doc.project
         key = key or WRINKLED + project.textures.wrinkle_map_names[0]
         bits = 16 if get_map(project.textures, key).dtype == np.uint16 else 8
-        worker = BakeWorker(project.mesh, Path(path), size, distance, bits)
+        worker = BakeWorker(project.mesh, Path(path), size, distance, bits,
+                            self.doc.view.tangent_frame)
         progress = QProgressDialog(f"Baking {Path(path).name} into a {size} × {size} wrinkled "
                                    "normal map…", "Cancel", 0, 1000, self.window)
         progress.setWindowTitle("Bake Wrinkled Normal Map")

@@ -225,7 +225,8 @@ class MapTools:
         if name:
             from studio.core.project.gltf import save_gltf
 
-            self._export(lambda: save_gltf(self.doc.project, Path(name)), name)
+            self._export(lambda: save_gltf(self.doc.project, Path(name),
+                                           self.doc.view.tangent_frame), name)
 
     def export_folder(self) -> None:
         """The folder and engine layout in a dialog (widgets/engine_export_dialog.py)."""

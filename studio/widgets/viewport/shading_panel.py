@@ -58,6 +58,16 @@ class ShadingPanel(QWidget):
         self.relief_depth.setToolTip("Depth of the deepest wrinkle, in model units")
         self.relief_depth.edited.connect(lambda v, _g: document.set_view(relief_depth=v))
         form.addRow(self.relief_depth)
+        self.tangent_frame = QComboBox()
+        self.tangent_frame.setObjectName("tangent_frame")
+        self.tangent_frame.addItem("MikkTSpace (Blender, Substance, engines)", "mikktspace")
+        self.tangent_frame.addItem("Per-triangle sums (thesis)", "thesis")
+        self.tangent_frame.setToolTip(
+            "The tangent frame the normal maps were baked in; baking and the glTF export use "
+            "it too. Maps from today's bakers need MikkTSpace")
+        self.tangent_frame.activated.connect(
+            lambda: document.set_view(tangent_frame=self.tangent_frame.currentData()))
+        form.addRow("Tangent frame", self.tangent_frame)
         self.wireframe = QCheckBox("Wireframe overlay")
         self.wireframe.toggled.connect(lambda on: document.set_view(wireframe=on))
         form.addRow(self.wireframe)
@@ -107,6 +117,7 @@ class ShadingPanel(QWidget):
         self.debug_view.setCurrentIndex(self.debug_view.findData(view.debug_view))
         self.blend.setCurrentIndex(self.blend.findData(view.blend))
         self.relief.setCurrentIndex(self.relief.findData(view.relief))
+        self.tangent_frame.setCurrentIndex(self.tangent_frame.findData(view.tangent_frame))
         self._fit_relief_range()
         self.relief_depth.set_value(view.relief_depth)
         self.relief_depth.setEnabled(view.relief != "off")

@@ -1,0 +1,155 @@
+"""The tangent frame a tangent-space normal map is read in: the thesis's, or MikkTSpace's.
+
+A normal map only means something together with the tangent frame it was baked in. Two frames
+are offered:
+
+* ``thesis`` — Lengyel's per-triangle ``T``/``B`` (Eq. 4.8) summed unnormalised per render
+  vertex, so each triangle counts by its position area over its UV area; Gram–Schmidt against
+  the vertex normal; handedness ``w = sign((N×T)·B)`` from the sums (``studio.core.mesh.geometry``).
+* ``mikktspace`` — the convention of today's bakers (Blender, Substance, xNormal, Marmoset) and
+  engines (Unreal, Unity, Godot, the glTF specification's default): per triangle the *unit*
+  direction of ``T``, summed per render vertex weighted by the triangle's angle at that corner,
+  Gram–Schmidt against the normal, and ``w`` the side of the UV layout the vertex lies on
+  (``+1`` where the UV triangle is counter-clockwise like the mesh, ``−1`` on a mirrored
+  island). A map baked by those tools shows without seams or wrong lighting only in this frame.
+
+MikkTSpace proper outputs a tangent per triangle *corner* and splits a vertex whose corners lie
+on both sides of a UV mirror line; the studio keeps one tangent per render vertex, so such a
+vertex takes the side most of its corner angle lies on and sums only those corners ("faces with
+the same UV side"). It also projects every corner's tangent onto the tangent plane before
+weighting, and measures the angle between projected edges; here the 3-D angle weights the raw
+unit tangent and the sum is projected once. On smooth faces the two differ by well under a
+degree; where the UVs are mirrored or sheared (where the thesis's frame differs most) they agree.
+
+Everything is vectorised over corners; nothing here loops over vertices in Python.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+Array = np.ndarray
+TangentFrame = Literal["mikktspace", "thesis"]
+
+#: The frames, the default first: imported faces are read in the bakers' convention.
+TANGENT_FRAMES: tuple[str, ...] = ("mikktspace", "thesis")
+DEFAULT_TANGENT_FRAME = "mikktspace"
+
+#: A UV triangle counts as degenerate when |det| <= UV_SINE·|e1|·|e2|, i.e. when its UV edges are
+#: parallel to within ~1e-7 rad: 1/det would otherwise explode (or be inf for det == 0).
+UV_SINE = 1e-7
+#: A tangent is unusable when, after removing its normal component, less than this fraction of
+#: its length is left (it was parallel to the normal): its direction would be rounding noise.
+TANGENT_KEEP = 1e-4
+_TINY = float(np.finfo(np.float32).tiny)
+
+
+def uv_directions(uvs: Array, triangles: Array) -> tuple[Array, Array, Array]:
+    """Per triangle, ``a, b`` with ``T ∝ a·Q1 + b·Q2`` pointing along +u, and the UV side.
+
+    ``a = t2·s``, ``b = −t1·s`` with ``s = sign(s1·t2 − s2·t1)``: Lengyel's ``T`` (Eq. 4.8)
+    without the ``1/det`` magnitude, which the unit direction drops. The side is ``+1`` for a
+    counter-clockwise UV triangle, ``−1`` for a mirrored one and ``0`` for a UV triangle of
+    (numerically) zero area, which contributes nothing.
+    """
+    uv = np.asarray(uvs, dtype=np.float64)
+    t = np.asarray(triangles, dtype=np.intp)
+    d1 = uv[t[:, 1]] - uv[t[:, 0]]
+    d2 = uv[t[:, 2]] - uv[t[:, 0]]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    scale = np.sqrt(np.einsum("ij,ij->i", d1, d1) * np.einsum("ij,ij->i", d2, d2))
+    side = np.where(np.abs(det) > UV_SINE * scale, np.sign(det), 0.0)
+    return side * d2[:, 1], -side * d1[:, 1], side
+
+
+def corner_angles(corners: Array) -> Array:
+    """``(F, 3)`` interior angle of each triangle at each corner, from ``(F, 3, 3)`` corner
+    positions; ``atan2(|e×f|, e·f)`` stays accurate for slivers where ``acos`` does not."""
+    p0, p1, p2 = corners[:, 0], corners[:, 1], corners[:, 2]
+    e01, e02, e12 = p1 - p0, p2 - p0, p2 - p1
+    cross = np.linalg.norm(np.cross(e01, e02), axis=1)
+    dots = np.stack([np.einsum("ij,ij->i", e01, e02), -np.einsum("ij,ij->i", e01, e12),
+                     np.einsum("ij,ij->i", e02, e12)], axis=1)
+    return np.arctan2(cross[:, None], dots)
+
+
+def perpendicular(normals: Array) -> Array:
+    """Some unit vector perpendicular to each unit normal, for vertices without a tangent."""
+    n = np.asarray(normals, dtype=np.float64)
+    axis = np.zeros_like(n)
+    axis[np.arange(len(n)), np.argmin(np.abs(n), axis=1)] = 1.0  # never parallel to n
+    out = np.cross(n, axis)
+    return out / np.maximum(np.linalg.norm(out, axis=1, keepdims=True), _TINY)
+
+
+class MikkTSpaceFrame:
+    """MikkTSpace-style tangents of one mesh, with everything that depends only on its UVs and
+    topology (the triangles' UV directions and sides, each vertex's side) worked out once, so a
+    posed frame costs a few vectorised passes over the corners.
+
+    ``triangles`` index render vertices, ``weld`` maps them to welded positions, and
+    ``rest_welded`` (the neutral pose) decides each vertex's side once: a vertex's handedness
+    must not flip while the face animates.
+    """
+
+    def __init__(self, triangles: Array, uvs: Array, weld: Array, rest_welded: Array) -> None:
+        self.triangles = np.asarray(triangles, dtype=np.intp)
+        self.n_vertices = len(weld)
+        self.welded_triangles = np.asarray(weld, dtype=np.intp)[self.triangles]
+        a, b, side = uv_directions(uvs, self.triangles)
+        self._a, self._b = a[:, None], b[:, None]
+        corner_vertex = self.triangles.ravel()
+        rest = np.asarray(rest_welded, dtype=np.float64)
+        angles = corner_angles(rest[self.welded_triangles]).ravel()
+        corner_side = np.repeat(side, 3)
+        votes = np.bincount(corner_vertex, weights=angles * corner_side,
+                            minlength=self.n_vertices)
+        #: +1 or −1 per render vertex: the UV side most of its corner angle lies on
+        self.side = np.where(votes < 0.0, -1.0, 1.0)
+        self._keep = (corner_side == self.side[corner_vertex]).reshape(-1, 3)
+        self._corner_vertex = corner_vertex
+
+    def tangents(self, positions_welded: Array, normals: Array) -> Array:
+        """``(V, 4)`` float64 tangents ``(x, y, z, w)`` for one pose and its unit vertex
+        normals (per render vertex). A vertex without a usable tangent (every corner's UV
+        triangle degenerate, or the sum parallel to the normal) gets some unit vector
+        perpendicular to its normal and ``w = +1``, never NaN."""
+        corners = np.asarray(positions_welded, dtype=np.float64)[self.welded_triangles]
+        q1, q2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+        direction = self._a * q1 + self._b * q2
+        length = np.linalg.norm(direction, axis=1, keepdims=True)
+        direction = np.divide(direction, length, out=np.zeros_like(direction),
+                              where=length > _TINY)
+        weight = (corner_angles(corners) * self._keep).ravel()
+        per_corner = np.repeat(direction, 3, axis=0) * weight[:, None]
+        summed = np.stack([np.bincount(self._corner_vertex, weights=per_corner[:, j],
+                                       minlength=self.n_vertices) for j in range(3)], axis=1)
+        return orthonormal_frame(summed, normals, self.side)
+
+
+def orthonormal_frame(summed: Array, normals: Array, handedness: Array) -> Array:
+    """Gram–Schmidt ``T' = normalize(T − (N·T)N)`` with handedness ``w``; a tangent that is
+    missing or parallel to the normal falls back to a perpendicular with ``w = +1``."""
+    n = np.asarray(normals, dtype=np.float64)
+    n = n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), _TINY)
+    ortho = summed - np.einsum("ij,ij->i", n, summed)[:, None] * n
+    o_len = np.linalg.norm(ortho, axis=1)
+    usable = (o_len > TANGENT_KEEP * np.linalg.norm(summed, axis=1)) & (o_len > _TINY)
+    out = np.empty((len(n), 4))
+    out[:, :3] = ortho / np.where(usable, o_len, 1.0)[:, None]
+    out[:, 3] = handedness
+    if not usable.all():
+        out[~usable, :3] = perpendicular(n[~usable])
+        out[~usable, 3] = 1.0
+    return out
+
+
+def mikktspace_tangents(positions_render: Array, uvs: Array, triangles: Array,
+                        normals_render: Array) -> Array:
+    """MikkTSpace-style ``(V, 4)`` tangents of a mesh given over render vertices (each its own
+    position); the standalone form of ``MikkTSpaceFrame`` that the tests check by hand."""
+    positions = np.asarray(positions_render, dtype=np.float64)
+    frame = MikkTSpaceFrame(triangles, uvs, np.arange(len(positions)), positions)
+    return frame.tangents(positions, normals_render)

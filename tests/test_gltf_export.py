@@ -1,0 +1,138 @@
+"""What the glTF export gives other viewers: the tangent frame (NORMAL, TANGENT and their
+morph-target deltas) and the timeline as a morph-weight animation, and how both come back."""
+
+from __future__ import annotations
+
+import json
+import struct
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from studio.core.animation.timeline import Key, sequence_all_poses
+from studio.core.mesh.geometry import DeformCache
+from studio.core.project.gltf import _Gltf, load_gltf, save_gltf
+from studio.core.project.sample import make_sample
+
+
+@pytest.fixture
+def small():
+    face = make_sample(561, texture_size=64, mask_size=32)
+    face.timeline = sequence_all_poses([p.name for p in face.poses])
+    # a constant key at a fractional frame: exact at frames and keys all the same
+    face.timeline.tracks[0].keys.append(Key(face.timeline.end - 10.5, 0.7, "constant"))
+    face.timeline.tracks[0].sort()
+    return face
+
+
+def rewrite_glb(path: Path, change: Callable[[dict], None]) -> None:
+    """Edit a GLB's JSON in place (as another tool re-exporting it might)."""
+    data = path.read_bytes()
+    n = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20:20 + n])
+    change(doc)
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = data[20 + n:]
+    path.write_bytes(struct.pack("<4sII", b"glTF", 2, 20 + len(text) + len(rest))
+                     + struct.pack("<II", len(text), 0x4E4F534A) + text + rest)
+
+
+@pytest.mark.parametrize("frame", ["mikktspace", "thesis"])
+def test_normal_and_tangent_are_written_in_the_project_s_frame_and_come_back(small, tmp_path,
+                                                                             frame):
+    small.view["view"] = {"tangent_frame": frame}
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+    g = _Gltf(path)
+    prim = g.doc["meshes"][0]["primitives"][0]
+    mesh = small.mesh
+    cache = DeformCache(mesh, frame)
+    rest = cache.update(mesh.rest).copy()
+    tangent = g.accessor(prim["attributes"]["TANGENT"])
+    np.testing.assert_array_equal(tangent, rest[:, 6:10])
+    assert set(np.unique(tangent[:, 3])) <= {-1.0, 1.0}
+    np.testing.assert_array_equal(g.accessor(prim["attributes"]["NORMAL"]), rest[:, 3:6])
+    for pose, target in zip(small.poses, prim["targets"], strict=True):  # the posed frame
+        posed = cache.update(pose.positions)
+        np.testing.assert_allclose(g.accessor(target["NORMAL"]) + rest[:, 3:6],
+                                   posed[:, 3:6], atol=1e-6)
+        np.testing.assert_allclose(g.accessor(target["TANGENT"]) + rest[:, 6:9],
+                                   posed[:, 6:9], atol=1e-6)
+    assert load_gltf(path).view["view"]["tangent_frame"] == frame
+
+
+def test_the_frame_argument_overrides_the_project_s(small, tmp_path):
+    save_gltf(small, tmp_path / "face.glb", tangent_frame="thesis")
+    g = _Gltf(tmp_path / "face.glb")
+    tangent = g.accessor(g.doc["meshes"][0]["primitives"][0]["attributes"]["TANGENT"])
+    np.testing.assert_array_equal(tangent, DeformCache(small.mesh, "thesis").update(
+        small.mesh.rest)[:, 6:10])
+
+
+def test_the_timeline_is_a_weights_animation_sampled_at_every_frame_and_key(small, tmp_path):
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+    g = _Gltf(path)
+    (animation,) = g.doc["animations"]
+    (channel,) = animation["channels"]
+    assert channel["target"] == {"node": 0, "path": "weights"}
+    sampler = animation["samplers"][channel["sampler"]]
+    assert sampler["interpolation"] == "LINEAR"
+    timeline, names = small.timeline, [p.name for p in small.poses]
+    frames = g.accessor(sampler["input"]).ravel() * timeline.fps + timeline.start
+    expected = np.union1d(np.arange(timeline.start, timeline.end + 1),
+                          [k.frame for t in timeline.tracks for k in t.keys])
+    np.testing.assert_allclose(frames, expected, atol=1e-4)
+    weights = g.accessor(sampler["output"]).reshape(len(frames), len(names))
+    for j, name in enumerate(names):
+        np.testing.assert_allclose(weights[:, j], timeline.track(name).values_at(expected),
+                                   atol=1e-6)
+    # technique 1's activations per area in the animation's extras, on the same times
+    studio = animation["extras"]["wrinkleStudio"]
+    assert studio["activations"]["input"] == sampler["input"]
+    areas = studio["activations"]["areas"]
+    assert [a["name"] for a in areas] == [a.name for a in small.influence.areas]
+    values = np.array([a["values"] for a in areas]).T
+    for i in (0, len(expected) // 3, len(expected) - 1):
+        np.testing.assert_allclose(values[i], small.influence.activations(
+            timeline.weights_at(expected[i])), atol=1e-6)
+
+
+def test_the_timeline_comes_back_exactly_and_from_the_animation_alone(small, tmp_path):
+    """With the studio's extras the keys come back as they were; without them (another tool
+    re-exported the file) the animation gives a timeline that plays the same weights at every
+    frame, within float32."""
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+    assert load_gltf(path).timeline.to_dict() == small.timeline.to_dict()
+    rewrite_glb(path, lambda doc: doc["extras"]["wrinkleStudio"].pop("timeline"))
+    back = load_gltf(path).timeline
+    timeline = small.timeline
+    assert (back.fps, back.start, back.end) == (timeline.fps, timeline.start, timeline.end)
+    for frame in range(timeline.start, timeline.end + 1):
+        got, want = back.weights_at(frame), timeline.weights_at(frame)
+        assert got.keys() == want.keys()
+        np.testing.assert_allclose(list(got.values()), list(want.values()), atol=1e-6)
+
+
+def test_a_step_animation_imports_as_held_keys(small, tmp_path):
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+
+    def step(doc: dict) -> None:
+        doc["extras"]["wrinkleStudio"].pop("timeline")
+        doc["animations"][0]["samplers"][0]["interpolation"] = "STEP"
+
+    rewrite_glb(path, step)
+    track = load_gltf(path).timeline.tracks[0]
+    assert {k.interpolation for k in track.keys} == {"constant"}
+    assert track.value_at(track.keys[5].frame + 0.9) == pytest.approx(track.keys[5].value)
+
+
+def test_no_animation_without_keys_or_poses(small, tmp_path):
+    small.timeline.tracks.clear()
+    save_gltf(small, tmp_path / "keyless.glb")
+    assert "animations" not in _Gltf(tmp_path / "keyless.glb").doc
