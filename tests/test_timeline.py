@@ -109,3 +109,38 @@ def test_the_sample_ships_with_an_animation_of_every_pose():
     assert [t.pose for t in project.timeline.tracks] == list(POSES)
     assert project.timeline.weights_at(0) == dict.fromkeys(POSES, 0.0)
     assert project.timeline.weights_at(18)[POSES[0]] == 1.0
+
+
+# --- by hand: defaults, messages and the thesis's sequence (each value worked out) ---
+
+
+def test_a_timeline_record_without_fields_takes_the_defaults():
+    timeline = Timeline.from_dict({})
+    assert (timeline.fps, timeline.start, timeline.end, timeline.tracks) == (24.0, 0, 96, [])
+    slow = Timeline.from_dict({"fps": 0.5, "start": 3, "end": 4})
+    assert (slow.fps, slow.start, slow.end) == (0.5, 3, 4)  # any positive rate, end after start
+    for bad in ({"fps": 0}, {"fps": -24}, {"start": 5, "end": 5}, {"start": 6, "end": 5}):
+        with pytest.raises(ValueError) as info:
+            Timeline.from_dict(bad)
+        assert str(info.value) == "the timeline needs a positive frame rate and end after start"
+
+
+def test_an_unknown_interpolation_is_named():
+    with pytest.raises(ValueError) as info:
+        Key(0.0, 1.0, "bouncy")
+    assert str(info.value) == "unknown interpolation 'bouncy'"
+
+
+def test_the_thesis_sequence_by_hand():
+    """0.5 s up, 0.5 s held, 0.5 s down at 24 fps: 12 frames each, one pose after the other."""
+    timeline = sequence_all_poses(["a", "b"])
+    assert timeline.fps == 24.0 and timeline.end == 72
+    a, b = timeline.tracks
+    assert [(k.frame, k.value, k.interpolation) for k in a.keys] == [
+        (0.0, 0.0, "cosine"), (12.0, 1.0, "cosine"), (24.0, 1.0, "cosine"), (36.0, 0.0, "cosine")]
+    assert [k.frame for k in b.keys] == [36.0, 48.0, 60.0, 72.0]
+    uneven = sequence_all_poses(["a"], fps=10.0, rise=0.3, hold=0.1, fall=0.6,
+                                interpolation="linear")
+    assert [k.frame for k in uneven.tracks[0].keys] == [0.0, 3.0, 4.0, 10.0]
+    assert {k.interpolation for k in uneven.tracks[0].keys} == {"linear"}
+    assert sequence_all_poses([]).end == 1  # no pose: still a timeline one frame long
