@@ -45,7 +45,8 @@ def measure(vertices: int, repeat: int = 5, areas: Sequence[int] = (16, 256),
     cycle = [timeline.weights_at(f) for f in range(timeline.end)]
     moving = [cycle[f] for f in range(timeline.end) if cycle[f] != cycle[f - 1]]
     blender = PoseBlender(project.mesh.rest, project.poses)
-    cache = DeformCache(project.mesh)
+    cache = DeformCache(project.mesh, "thesis")
+    mikk = DeformCache(project.mesh, "mikktspace")  # the viewport's default frame
     positions = [blender.blend(w).copy() for w in moving]
     rng = np.random.default_rng(0)
     shaken = [project.mesh.rest + rng.normal(0.0, 1e-3, project.mesh.rest.shape).astype("f4")
@@ -58,6 +59,10 @@ def measure(vertices: int, repeat: int = 5, areas: Sequence[int] = (16, 256),
             lambda i: cache.update(positions[i]), n, repeat),
         "normals + tangents, every vertex moving": _median_ms(
             lambda i: cache.update(shaken[i % 2]), 20, repeat),
+        "normals + MikkTSpace tangents, the face moving": _median_ms(
+            lambda i: mikk.update(positions[i]), n, repeat),
+        "normals + MikkTSpace tangents, every vertex moving": _median_ms(
+            lambda i: mikk.update(shaken[i % 2]), 20, repeat),
     }
     for count in areas:
         influence = benchmark_areas(project.influence, count, poses_named)

@@ -35,6 +35,7 @@ from studio.core.mesh.tangent_frames import (
     TANGENT_FRAMES,
     TANGENT_KEEP,
     UV_SINE,
+    MikkSubset,
     MikkTSpaceFrame,
     perpendicular,
 )
@@ -320,6 +321,7 @@ class _Region:
     chunks: list = field(default_factory=list)  # _GroupPlan.subset(rows)
     welded: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # position of each row
     vertices: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # vertex of each row
+    mikk: MikkSubset | None = None  # the MikkTSpace frame's index work for ``vertices``
     split: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # which rows: seam copies
     split_source: Array = field(default_factory=lambda: np.zeros(0, np.intp))  # their welded sums
     span: tuple[int, int] = (0, 0)  # first render vertex recomputed, and one past the last
@@ -498,10 +500,15 @@ class DeformCache:
                 self._update_some(region)
             self.last_recomputed, self.last_span = len(region.rows), region.span
         if self._mikk is not None and self.frame == "mikktspace" and self.last_recomputed:
-            # Over the whole mesh: a vertex outside the recomputed span keeps its inputs, so
-            # its tangent comes out the same and the span still bounds what changed.
             out = self._out
-            out[:, 6:10] = self._mikk.tangents(self._pos_t.T, out[:, 3:6])
+            if region is None or region.rows is None:
+                out[:, 6:10] = self._mikk.tangents(self._pos_t.T, out[:, 3:6])
+            else:  # the vertices whose triangles moved; every other tangent keeps its inputs
+                if region.mikk is None:
+                    region.mikk = self._mikk.subset(region.vertices)
+                rows = region.mikk.vertices
+                out[rows, 6:10] = self._mikk.tangents_of(region.mikk, self._pos_t.T,
+                                                         out[rows, 3:6])
         return self._out
 
     # --- a whole frame ----------------------------------------------------------------------

@@ -26,6 +26,7 @@ Everything is vectorised over corners; nothing here loops over vertices in Pytho
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
@@ -117,6 +118,10 @@ class MikkTSpaceFrame:
         self._corner_face = order // 3
         self._starts = np.flatnonzero(np.r_[True, by_vertex[1:] != by_vertex[:-1]])
         self._start_vertex = by_vertex[self._starts]
+        everyone = np.arange(self.n_vertices)
+        self._vertex_first = np.searchsorted(by_vertex, everyone, side="left")
+        self._vertex_count = np.searchsorted(by_vertex, everyone, side="right") - \
+            self._vertex_first
         self._a32, self._b32 = self._a.astype(np.float32), self._b.astype(np.float32)
 
     def tangents(self, positions_welded: Array, normals: Array) -> Array:
@@ -136,6 +141,51 @@ class MikkTSpaceFrame:
         summed = np.zeros((self.n_vertices, 3))
         summed[self._start_vertex] = np.add.reduceat(per_corner, self._starts, axis=0)
         return orthonormal_frame(summed, normals, self.side)
+
+
+    def subset(self, vertices: Array) -> MikkSubset:
+        """The index work for recomputing only ``vertices`` (render vertices, e.g. those a
+        pose moves), done once and reused by every frame that moves the same part."""
+        vertices = np.sort(np.asarray(vertices, dtype=np.intp))
+        counts = self._vertex_count[vertices]
+        ends = np.cumsum(counts)
+        firsts = self._vertex_first[vertices]
+        at = np.repeat(firsts - (ends - counts), counts) + np.arange(int(ends[-1]) if len(ends)
+                                                                      else 0)
+        corners = self._corner_order[at]  # face * 3 + corner, grouped by vertex
+        faces, local = np.unique(corners // 3, return_inverse=True)
+        has = counts > 0
+        return MikkSubset(vertices, np.flatnonzero(has), faces, local.reshape(-1),
+                          corners % 3, (ends - counts)[has])
+
+    def tangents_of(self, subset: MikkSubset, positions_welded: Array, normals: Array) -> Array:
+        """``(len(subset.vertices), 4)`` tangents of the subset's vertices only (``normals``
+        theirs, in the same order): the same values ``tangents`` gives them."""
+        faces = subset.faces
+        corners = np.asarray(positions_welded, dtype=np.float32)[self.welded_triangles[faces]]
+        q1, q2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+        direction = self._a32[faces] * q1 + self._b32[faces] * q2
+        length = np.sqrt(np.einsum("ij,ij->i", direction, direction))[:, None]
+        direction = np.divide(direction, length, out=np.zeros_like(direction),
+                              where=length > _TINY)
+        weight = (corner_angles(corners) * self._keep[faces])[subset.local_face, subset.slot]
+        per_corner = direction[subset.local_face] * weight[:, None]
+        summed = np.zeros((len(subset.vertices), 3))
+        if len(subset.starts):
+            summed[subset.with_corners] = np.add.reduceat(per_corner, subset.starts, axis=0)
+        return orthonormal_frame(summed, normals, self.side[subset.vertices])
+
+
+@dataclass(frozen=True)
+class MikkSubset:
+    """Index arrays for the tangents of some render vertices (see ``MikkTSpaceFrame.subset``)."""
+
+    vertices: Array  # the render vertices, ascending
+    with_corners: Array  # which of them have corners (index into ``vertices``)
+    faces: Array  # the triangles their corners belong to
+    local_face: Array  # per corner (grouped by vertex): index into ``faces``
+    slot: Array  # per corner: which corner of its triangle (0, 1, 2)
+    starts: Array  # where each vertex with corners starts in the corner arrays
 
 
 def orthonormal_frame(summed: Array, normals: Array, handedness: Array) -> Array:
