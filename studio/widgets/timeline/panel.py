@@ -119,6 +119,14 @@ class TimelinePanel(QWidget):
 
     # --- layout --------------------------------------------------------------------------------
     def _build(self) -> None:
+        """The controls on the left, the tracks above the curves on the right."""
+        layout = QHBoxLayout(self)
+        layout.setContentsMargins(4, 2, 4, 2)
+        layout.addWidget(self._build_controls())
+        layout.addWidget(self._build_graphs(), 1)
+
+    def _build_controls(self) -> QWidget:
+        """Transport, frame, rate and range, the selected keys' mode and weight, curve mode."""
         controls = QVBoxLayout()
         controls.setSpacing(4)
         transport = QHBoxLayout()
@@ -206,9 +214,11 @@ class TimelinePanel(QWidget):
         side = QWidget()
         side.setLayout(controls)
         side.setFixedWidth(250)
+        return side
 
-        # one graphics layout: the tracks above the curves, sharing the time axis; the legend
-        # sits in its own column so that it never hides a curve
+    def _build_graphs(self) -> pg.GraphicsLayoutWidget:
+        """One graphics layout: the tracks above the curves, sharing the time axis; the legend
+        sits in its own column so that it never hides a curve."""
         self.view = pg.GraphicsLayoutWidget()
         self.view.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
         self.view.ci.setSpacing(2)
@@ -257,11 +267,7 @@ class TimelinePanel(QWidget):
         self._curve_pool: list[pg.PlotDataItem] = []
         self._legend_labels: list = []
         self._retired: list = []
-
-        layout = QHBoxLayout(self)
-        layout.setContentsMargins(4, 2, 4, 2)
-        layout.addWidget(side)
-        layout.addWidget(self.view, 1)
+        return self.view
 
     def _icon(self, name: str) -> QIcon:
         return self.style().standardIcon(getattr(QStyle.StandardPixmap, name))
