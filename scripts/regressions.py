@@ -45,6 +45,11 @@ REGRESSIONS = (
         ("tests/test_gpu_reference.py::test_a_mirrored_uv_island_tilts_its_normals_the_same_way",
          "tests/test_gpu_reference.py::"
          "test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike")),
+    Regression(  # the same in the MikkTSpace frame, the default since #21
+        "mikktspace-handedness-ignored", "studio/core/mesh/tangent_frames.py",
+        "    out[:, 3] = handedness\n", "    out[:, 3] = 1.0\n",
+        ("tests/test_gpu_reference.py::test_a_mirrored_uv_island_tilts_its_normals_the_same_way",
+         "tests/test_tangent_frames.py")),
     Regression(  # in the plain reference the per-frame path is checked against
         "handedness-ignored-reference", "studio/core/mesh/geometry.py",
         'out[:, 3] = np.where(np.einsum("ij,ij->i", np.cross(n, t_sum), b_sum) < 0.0, -1.0, 1.0)',

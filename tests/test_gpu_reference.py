@@ -16,10 +16,12 @@ from __future__ import annotations
 
 import moderngl
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.project.model import Project
 from studio.core.project.sample import make_sample
 from studio.core.wrinkles.mask_sparse import composed_weights, sparse_masks
@@ -157,7 +159,8 @@ def mirrored_plane() -> Project:
                    FaceTextures(np.full((8, 8, 3), 200, np.uint8), neutral, flat_normal_map()))
 
 
-def test_a_mirrored_uv_island_tilts_its_normals_the_same_way(gl_context):
+@pytest.mark.parametrize("frame", TANGENT_FRAMES)
+def test_a_mirrored_uv_island_tilts_its_normals_the_same_way(gl_context, frame):
     """The normal map tilts every normal toward +v, which is +Y on both quads: the mirrored
     half must show the same normal colour. If the handedness were ignored, its bitangent would
     point to −Y and its normals would tilt down instead."""
@@ -166,7 +169,8 @@ def test_a_mirrored_uv_island_tilts_its_normals_the_same_way(gl_context):
     with OffscreenStudio(project, size, size, ctx=gl_context) as studio:
         studio.camera.yaw = studio.camera.pitch = 0.0
         studio.camera.frame(np.array([-1.2, -1.2, 0]), np.array([1.2, 1.2, 0]))
-        image = studio.render(RenderSettings(technique="none", view="normals"), {}).astype(int)
+        image = studio.render(RenderSettings(technique="none", view="normals",
+                                             tangent_frame=frame), {}).astype(int)
     left = image[size // 2 - 10:size // 2 + 10, size // 4 - 8:size // 4 + 8].reshape(-1, 3)
     right = image[size // 2 - 10:size // 2 + 10, 3 * size // 4 - 8:3 * size // 4 + 8]
     left_colour, right_colour = left.mean(axis=0), right.reshape(-1, 3).mean(axis=0)
@@ -174,7 +178,8 @@ def test_a_mirrored_uv_island_tilts_its_normals_the_same_way(gl_context):
     np.testing.assert_allclose(right_colour, left_colour, atol=2.0)
 
 
-def test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike(gl_context):
+@pytest.mark.parametrize("frame", TANGENT_FRAMES)
+def test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike(gl_context, frame):
     """Technique 2 revealing a wrinkled map over both quads of the mirrored plane: the UV seam
     down the middle is invisible (the columns either side match) and the mirrored half shows
     the same wrinkle, not an inverted one."""
@@ -195,8 +200,10 @@ def test_a_wrinkle_across_a_uv_seam_and_a_mirrored_island_shades_alike(gl_contex
     with OffscreenStudio(project, size, size, ctx=gl_context) as studio:
         studio.camera.yaw = studio.camera.pitch = 0.0
         studio.camera.frame(np.array([-1.2, -1.2, 0]), np.array([1.2, 1.2, 0]))
-        plain = studio.render(RenderSettings(technique="none"), {"lift": 1.0}).astype(int)
-        shaded = studio.render(RenderSettings(technique="t2"), {"lift": 1.0}).astype(int)
+        plain = studio.render(RenderSettings(technique="none", tangent_frame=frame),
+                              {"lift": 1.0}).astype(int)
+        shaded = studio.render(RenderSettings(technique="t2", tangent_frame=frame),
+                               {"lift": 1.0}).astype(int)
     rows = slice(size // 2 - 15, size // 2 + 15)
     left = shaded[rows, size // 4 - 8:size // 4 + 8].reshape(-1, 3).mean(axis=0)
     right = shaded[rows, 3 * size // 4 - 8:3 * size // 4 + 8].reshape(-1, 3).mean(axis=0)
