@@ -16,7 +16,7 @@ from studio.bench.report import _font
 from studio.core.project.model import Project
 from studio.core.project.sample import make_sample, sample_landmarks
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import RenderSettings
 
 OUT = Path(__file__).resolve().parent.parent / "docs" / "images"
 PANELS = [

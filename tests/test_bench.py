@@ -10,7 +10,7 @@ import pytest
 
 from studio.cli import main
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import RenderSettings
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
            "fps_min", "fps_max", "fps_std", "relief", "draw", "poses"]
@@ -144,6 +144,8 @@ def test_cpu_breakdown_names_every_part(capsys):
     lines = capsys.readouterr().out.splitlines()
     parts = {line.rsplit(None, 2)[0]: float(line.split()[-2]) for line in lines}
     assert set(parts) == {"timeline weights", "blend", "normals + tangents, the face moving",
-                          "normals + tangents, every vertex moving", "activations, 2 areas",
-                          "activations, 12 areas"}
+                          "normals + tangents, every vertex moving",
+                          "normals + MikkTSpace tangents, the face moving",
+                          "normals + MikkTSpace tangents, every vertex moving",
+                          "activations, 2 areas", "activations, 12 areas"}
     assert all(np.isfinite(ms) and ms >= 0 for ms in parts.values())

@@ -72,7 +72,7 @@ def test_an_exported_animation_is_drawn_like_the_viewport(window, qtbot, tmp_pat
     from PIL import Image
 
     from studio.render.offscreen import OffscreenStudio
-    from studio.render.renderer import RenderSettings
+    from studio.render.settings import RenderSettings
     from studio.widgets.export_dialog import ExportOptions, export_animation
 
     shading = window.shading_panel

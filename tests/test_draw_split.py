@@ -16,7 +16,7 @@ from studio.core.mesh.draw_split import (
 )
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import RenderSettings
 
 W, H = 400, 300
 

@@ -16,7 +16,7 @@ from studio.core.project.model import Project
 from studio.core.setup.face_frame import aim, detect_face_frame, face_frame, parse_axis
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import RenderSettings
 from tests.production_head import POSES, ProductionHead, build_head
 
 EXPECTED = {"z": {"up": (0, 0, 1), "front": (0, -1, 0), "left": (1, 0, 0)},

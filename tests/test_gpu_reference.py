@@ -28,7 +28,7 @@ from studio.core.wrinkles.mask_sparse import composed_weights, sparse_masks
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from studio.core.wrinkles.wdv import WdvSlots, visibility
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import RenderSettings
 from studio.render.shaders import build_program
 
 GPU_SETTINGS = settings(max_examples=25, deadline=None,

@@ -215,7 +215,7 @@ def test_a_default_render_shows_every_compressing_pose_in_its_region(imported):
     technique 2 change the shading of at least 1 % of the face's pixels around the pose's
     region (the issue measured 0.000 % before), and leave a far region untouched."""
     from studio.render.offscreen import OffscreenStudio
-    from studio.render.renderer import RenderSettings
+    from studio.render.settings import RenderSettings
 
     head, project, _, _ = imported
     size, radius = 800, 40

@@ -13,7 +13,8 @@ from studio.core.wrinkles.relief import height_from_normals, relief_image, wrink
 from studio.core.wrinkles.textures import flat_normal_map
 from studio.render import relief_pass
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import FaceRenderer, RenderSettings
+from studio.render.renderer import FaceRenderer
+from studio.render.settings import RenderSettings
 from tests.regions import landmark_pixels, region_difference
 
 W, H = 400, 600

@@ -9,7 +9,7 @@ import pytest
 
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
+from studio.render.settings import RenderSettings
 from tests.regions import landmark_pixels, region_difference
 
 W, H = 400, 300

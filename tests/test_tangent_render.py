@@ -9,8 +9,7 @@ from studio.core.project.model import Project
 from studio.core.project.view_settings import ViewSettings
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from studio.render.offscreen import OffscreenStudio
-from studio.render.renderer import RenderSettings
-from studio.render.settings import render_settings
+from studio.render.settings import RenderSettings, render_settings
 
 
 def curved_mirrored_sheet(n: int = 16) -> Project:

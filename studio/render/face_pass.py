@@ -14,21 +14,20 @@ import numpy as np
 
 from studio.core.mesh.draw_split import moved
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.project.view_settings import DEBUG_VIEWS
 from studio.core.wrinkles.strain import StrainField
 from studio.core.wrinkles.wdv import SLOTS, WdvSlots
 from studio.render import deform_pass
 from studio.render.programs import UNITS, Programs, set_uniforms, write_matrix
+from studio.render.settings import VIEW_MODES
 from studio.render.triangle_split import TriangleSplit
 
 if TYPE_CHECKING:
     from studio.render.deform_pass import DeformPass
     from studio.render.face_maps import FaceMaps
     from studio.render.relief_pass import ReliefPass
-    from studio.render.renderer import RenderSettings
+    from studio.render.settings import RenderSettings
     from studio.render.t1_pass import T1ComposePass
 
-VIEW_MODES = {name: i for i, name in enumerate(DEBUG_VIEWS)}  # u_view_mode in face.frag
 TESS_PIXELS = 3.0  # displace: wanted screen length of one segment of a wrinkled edge
 TESS_MAX = 32.0  # displace: most segments per edge
 Viewport = tuple[int, int, int, int]

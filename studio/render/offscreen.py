@@ -11,8 +11,9 @@ from studio.core.files.errors import RenderError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.project.model import Project
 from studio.core.setup.face_frame import aim
-from studio.render.renderer import FaceRenderer, RenderSettings
+from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
+from studio.render.settings import RenderSettings
 
 
 def create_standalone_context() -> moderngl.Context:

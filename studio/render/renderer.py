@@ -7,76 +7,23 @@ normals and tangents (one interleaved buffer write) and the draw.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import moderngl
 import numpy as np
 
 from studio.core.files.errors import RenderError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
-from studio.core.project.view_settings import BLENDS, RELIEFS
-from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
-from studio.core.wrinkles.strain import DEFAULT_FULL_AT
-from studio.core.wrinkles.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
 from studio.core.wrinkles.textures import FaceTextures
 from studio.core.wrinkles.wdv import WdvSlots
 from studio.render.deform_pass import DeformPass
 from studio.render.face_maps import FaceMaps
-from studio.render.face_pass import VIEW_MODES, FacePass
+from studio.render.face_pass import FacePass
 from studio.render.programs import Programs
 from studio.render.relief_pass import ReliefPass
+from studio.render.settings import RenderSettings
 from studio.render.t1_pass import T1ComposePass
 
-T1_MODES = ("composed", "direct")
 DISPLACE_GL = 400  # tessellation shaders: OpenGL 4.0
-
-
-@dataclass
-class RenderSettings:
-    technique: str = "t2"  # flat | none | t1 | t2 | strain (automatic, from skin compression)
-    view: str = "shaded"  # shaded | heat | normals | uv
-    wireframe: bool = False
-    light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)  # view space, toward the light
-    ambient: float = 0.1
-    specular: float = 0.12
-    shininess: float = 20.0
-    background: tuple[float, float, float] = (0.16, 0.17, 0.19)
-    blend: str = "colour"  # colour: the thesis's mix of two shadings; normal: light once
-    t1_mode: str = "composed"  # composed: one weight texture a frame; direct: every mask a pixel
-    strain_full_at: float = DEFAULT_FULL_AT  # compression at which strain wrinkles fully show
-    relief: str = "off"  # off | displace (tessellation, GL 4.0) | parallax: wrinkles in depth
-    relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
-    tangent_frame: str = DEFAULT_TANGENT_FRAME  # mikktspace | thesis: how the maps are read
-
-    def __post_init__(self) -> None:
-        for value, allowed, what in ((self.technique, tuple(TECHNIQUES), "technique"),
-                                     (self.view, tuple(VIEW_MODES), "view"),
-                                     (self.blend, BLENDS, "blend"),
-                                     (self.t1_mode, T1_MODES, "technique-1 mode"),
-                                     (self.relief, RELIEFS, "relief"),
-                                     (self.tangent_frame, TANGENT_FRAMES, "tangent frame")):
-            if value not in allowed:
-                raise ValueError(f"unknown {what} '{value}' (choose from {allowed})")
-        if not 0.0 <= self.relief_depth < float("inf"):
-            raise ValueError(f"the relief depth must be 0 or more, got {self.relief_depth}")
-
-    @property
-    def active_relief(self) -> str:
-        """The relief actually drawn: only the wrinkle techniques have wrinkles to raise."""
-        return self.relief if self.technique in WRINKLE_TECHNIQUES else "off"
-
-    def program_key(self) -> tuple[str, ...]:
-        """What selects a compiled program: only options that change the shader's code."""
-        defines = [shader_define(self.technique)]
-        if self.blend == "normal":
-            defines.append("BLEND_NORMALS")
-        if self.technique == "t1" and self.t1_mode == "direct":
-            defines.append("T1_DIRECT")
-        if self.active_relief != "off":
-            defines.append(f"RELIEF_{self.active_relief.upper()}")
-        return tuple(defines)
 
 
 class FaceRenderer:
