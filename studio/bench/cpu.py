@@ -82,7 +82,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                              "thesis's animation of the sample's own poses)")
     args = parser.parse_args(argv)
     for part, ms in measure(args.vertices, args.repeat, args.areas, args.poses).items():
-        print(f"{part:<42}{ms:8.3f} ms")
+        print(f"{part:<52}{ms:8.3f} ms")
     return 0
 
 
