@@ -24,6 +24,7 @@ from studio.core.project.model import Project
 from studio.core.project.sample import make_sample
 from studio.core.project.writer import save_project
 from studio.core.wrinkles.influence import InfluenceArea
+from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.wdv import WdvSetup
 
 # the sample's areas, linked to ARKit poses as a capture rig would drive them
@@ -112,6 +113,21 @@ def test_the_sheet_names_the_engines_regions(tmp_path):
     assert sets["_WrinkleMaskSet3"]["A"]["region"] == "head_wm3_normal_head_wm3_smile"
     export_layout(project, tmp_path / "o3de", "o3de")
     assert (tmp_path / "o3de" / "face_wrinklemasks" / "mouthSmile_R_wrinklemask.tif").is_file()
+
+
+def test_the_sheet_carries_each_links_response_curve(tmp_path):
+    project = arkit_face()
+    pose, gains = next(iter(ARKIT_LINKS.items()))
+    area = next(iter(gains))
+    project.influence.curves = {pose: {area: ResponseCurve("ease_in")}}
+    export_layout(project, tmp_path / "mh", "metahuman")
+    sheet = json.loads((tmp_path / "mh" / SHEET).read_text())
+    entries = [a for t in sheet["mask_textures"] for c in t["channels"].values()
+               for a in c["areas"]]
+    curved = [a for a in entries if "response" in a]
+    assert curved and {a["area"] for a in curved} == {area}
+    assert all(a["response"] == {pose: {"kind": "ease_in"}} for a in curved)
+    assert all("response" not in a for a in entries if a["area"] != area)  # linear: left out
 
 
 def test_a_second_area_of_a_pose_takes_the_next_free_region(tmp_path):

@@ -167,9 +167,21 @@ def layout_sheet(project: Project, plan: Plan) -> dict:
     layout, areas = plan.layout, project.influence.areas
     drivers = linked_poses(project)
 
+    curves = project.influence.curves
+
     def names(sources: Sequence[tuple[int, float]]) -> list[dict]:
-        return [{"area": areas[i].name, "gain": gain,
-                 "poses": [p for p, _ in drivers.get(i, [])]} for i, gain in sources]
+        """Each area with its gain, its driving poses, and the response curve of each
+        non-linear link (an engine applies its own curve per region: a technical artist
+        reproduces these there)."""
+        out = []
+        for i, gain in sources:
+            poses = [p for p, _ in drivers.get(i, [])]
+            response = {p: c.to_dict() for p in poses
+                        if (c := curves.get(p, {}).get(areas[i].name)) is not None
+                        and not c.linear}
+            out.append({"area": areas[i].name, "gain": gain, "poses": poses,
+                        **({"response": response} if response else {})})
+        return out
 
     textures = [{"texture": t.name, "file": t.file,
                  "channels": {c.channel: {"region": c.region, "side": c.side,
