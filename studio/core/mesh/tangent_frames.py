@@ -110,38 +110,52 @@ class MikkTSpaceFrame:
         #: +1 or −1 per render vertex: the UV side most of its corner angle lies on
         self.side = np.where(votes < 0.0, -1.0, 1.0)
         self._keep = (corner_side == self.side[corner_vertex]).reshape(-1, 3).astype(np.float32)
-        # the corners sorted by their vertex once, so a frame sums them with one reduceat
-        # (three bincounts over every corner cost several times more)
+        # the corners sorted by their vertex once, so that a frame that moves part of the
+        # face finds the corners of just its vertices (``subset``)
         order = np.argsort(corner_vertex, kind="stable")
         by_vertex = corner_vertex[order]
         self._corner_order = order
-        self._corner_face = order // 3
-        self._starts = np.flatnonzero(np.r_[True, by_vertex[1:] != by_vertex[:-1]])
-        self._start_vertex = by_vertex[self._starts]
         everyone = np.arange(self.n_vertices)
         self._vertex_first = np.searchsorted(by_vertex, everyone, side="left")
         self._vertex_count = np.searchsorted(by_vertex, everyone, side="right") - \
             self._vertex_first
-        self._a32, self._b32 = self._a.astype(np.float32), self._b.astype(np.float32)
+        self._corner_vertex = corner_vertex
+        self._wtri_t = np.ascontiguousarray(self.welded_triangles.T)  # (3, F)
+        self._a_row = self._a[:, 0].astype(np.float32)  # (F,): broadcast over x, y, z rows
+        self._b_row = self._b[:, 0].astype(np.float32)
 
     def tangents(self, positions_welded: Array, normals: Array) -> Array:
         """``(V, 4)`` float64 tangents ``(x, y, z, w)`` for one pose and its unit vertex
         normals (per render vertex). A vertex without a usable tangent (every corner's UV
         triangle degenerate, or the sum parallel to the normal) gets some unit vector
         perpendicular to its normal and ``w = +1``, never NaN."""
-        # float32 like the vertex buffer it fills: this runs every posed frame
-        corners = np.asarray(positions_welded, dtype=np.float32)[self.welded_triangles]
-        q1, q2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-        direction = self._a32 * q1 + self._b32 * q2
-        length = np.sqrt(np.einsum("ij,ij->i", direction, direction))[:, None]
-        direction = np.divide(direction, length, out=np.zeros_like(direction),
-                              where=length > _TINY)
-        weight = (corner_angles(corners) * self._keep).ravel()[self._corner_order]
-        per_corner = direction[self._corner_face] * weight[:, None]
-        summed = np.zeros((self.n_vertices, 3))
-        summed[self._start_vertex] = np.add.reduceat(per_corner, self._starts, axis=0)
+        direction, weight = self._face_terms(positions_welded, self._wtri_t, self._a_row,
+                                             self._b_row, self._keep)
+        summed = np.empty((self.n_vertices, 3))
+        for j in range(3):  # a bincount per axis: no gather of every corner
+            summed[:, j] = np.bincount(self._corner_vertex, weights=(direction[j][:, None]
+                                                                     * weight).ravel(),
+                                       minlength=self.n_vertices)
         return orthonormal_frame(summed, normals, self.side)
 
+    @staticmethod
+    def _face_terms(positions_welded: Array, wtri_t: Array, a: Array, b: Array,
+                    keep: Array) -> tuple[Array, Array]:
+        """Per triangle its unit +u direction ``(3, F)`` and its kept corners' angles
+        ``(F, 3)``, in float32 (the vertex buffer's precision) and component-major, so each
+        step is a flat pass over the triangles: this runs on every posed frame."""
+        pos_t = np.ascontiguousarray(np.asarray(positions_welded, dtype=np.float32).T)
+        c0, c1, c2 = pos_t[:, wtri_t[0]], pos_t[:, wtri_t[1]], pos_t[:, wtri_t[2]]
+        e1, e2, e3 = c1 - c0, c2 - c0, c2 - c1
+        direction = a * e1 + b * e2
+        length = np.sqrt((direction * direction).sum(axis=0))
+        direction = np.divide(direction, length, out=np.zeros_like(direction),
+                              where=length > _TINY)
+        cross = np.sqrt((e1[1] * e2[2] - e1[2] * e2[1]) ** 2 + (e1[2] * e2[0] - e1[0] * e2[2]) ** 2
+                        + (e1[0] * e2[1] - e1[1] * e2[0]) ** 2)
+        dots = np.stack([(e1 * e2).sum(axis=0), -(e1 * e3).sum(axis=0), (e2 * e3).sum(axis=0)],
+                        axis=1)
+        return direction, np.arctan2(cross[:, None], dots) * keep
 
     def subset(self, vertices: Array) -> MikkSubset:
         """The index work for recomputing only ``vertices`` (render vertices, e.g. those a
@@ -162,17 +176,13 @@ class MikkTSpaceFrame:
         """``(len(subset.vertices), 4)`` tangents of the subset's vertices only (``normals``
         theirs, in the same order): the same values ``tangents`` gives them."""
         faces = subset.faces
-        corners = np.asarray(positions_welded, dtype=np.float32)[self.welded_triangles[faces]]
-        q1, q2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-        direction = self._a32[faces] * q1 + self._b32[faces] * q2
-        length = np.sqrt(np.einsum("ij,ij->i", direction, direction))[:, None]
-        direction = np.divide(direction, length, out=np.zeros_like(direction),
-                              where=length > _TINY)
-        weight = (corner_angles(corners) * self._keep[faces])[subset.local_face, subset.slot]
-        per_corner = direction[subset.local_face] * weight[:, None]
+        direction, weight = self._face_terms(positions_welded, self._wtri_t[:, faces],
+                                             self._a_row[faces], self._b_row[faces],
+                                             self._keep[faces])
+        per_corner = direction[:, subset.local_face] * weight[subset.local_face, subset.slot]
         summed = np.zeros((len(subset.vertices), 3))
         if len(subset.starts):
-            summed[subset.with_corners] = np.add.reduceat(per_corner, subset.starts, axis=0)
+            summed[subset.with_corners] = np.add.reduceat(per_corner, subset.starts, axis=1).T
         return orthonormal_frame(summed, normals, self.side[subset.vertices])
 
 
