@@ -67,12 +67,20 @@ def uv_directions(uvs: Array, triangles: Array) -> tuple[Array, Array, Array]:
 
 def corner_angles(corners: Array) -> Array:
     """``(F, 3)`` interior angle of each triangle at each corner, from ``(F, 3, 3)`` corner
-    positions; ``atan2(|e×f|, e·f)`` stays accurate for slivers where ``acos`` does not."""
-    p0, p1, p2 = corners[:, 0], corners[:, 1], corners[:, 2]
-    e01, e02, e12 = p1 - p0, p2 - p0, p2 - p1
-    cross = np.linalg.norm(np.cross(e01, e02), axis=1)
-    dots = np.stack([np.einsum("ij,ij->i", e01, e02), -np.einsum("ij,ij->i", e01, e12),
-                     np.einsum("ij,ij->i", e02, e12)], axis=1)
+    positions."""
+    c = np.moveaxis(np.asarray(corners), 2, 0)  # (3 components, F, 3 corners)
+    return _edge_angles(c[:, :, 1] - c[:, :, 0], c[:, :, 2] - c[:, :, 0],
+                        c[:, :, 2] - c[:, :, 1])
+
+
+def _edge_angles(e01: Array, e02: Array, e12: Array) -> Array:
+    """``(F, 3)`` corner angles from component-major ``(3, F)`` edges (corner 0 → 1, 0 → 2,
+    1 → 2); ``atan2(|e×f|, e·f)`` stays accurate for slivers where ``acos`` does not."""
+    cross = np.sqrt((e01[1] * e02[2] - e01[2] * e02[1]) ** 2
+                    + (e01[2] * e02[0] - e01[0] * e02[2]) ** 2
+                    + (e01[0] * e02[1] - e01[1] * e02[0]) ** 2)
+    dots = np.stack([(e01 * e02).sum(axis=0), -(e01 * e12).sum(axis=0),
+                     (e02 * e12).sum(axis=0)], axis=1)
     return np.arctan2(cross[:, None], dots)
 
 
@@ -151,11 +159,7 @@ class MikkTSpaceFrame:
         length = np.sqrt((direction * direction).sum(axis=0))
         direction = np.divide(direction, length, out=np.zeros_like(direction),
                               where=length > _TINY)
-        cross = np.sqrt((e1[1] * e2[2] - e1[2] * e2[1]) ** 2 + (e1[2] * e2[0] - e1[0] * e2[2]) ** 2
-                        + (e1[0] * e2[1] - e1[1] * e2[0]) ** 2)
-        dots = np.stack([(e1 * e2).sum(axis=0), -(e1 * e3).sum(axis=0), (e2 * e3).sum(axis=0)],
-                        axis=1)
-        return direction, np.arctan2(cross[:, None], dots) * keep
+        return direction, _edge_angles(e1, e2, e3) * keep
 
     def subset(self, vertices: Array) -> MikkSubset:
         """The index work for recomputing only ``vertices`` (render vertices, e.g. those a
