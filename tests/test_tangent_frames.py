@@ -148,3 +148,14 @@ def test_deform_cache_fills_the_frame_it_is_set_to_every_frame():
     with pytest.raises(ValueError, match="unknown tangent frame"):
         cache.set_frame("blender")
     assert set(TANGENT_FRAMES) == {"mikktspace", "thesis"}
+
+
+def test_corner_angles_by_hand():
+    """A 30-60-90 triangle in each corner order, and a sliver: the angle at every corner."""
+    p = np.array([[0.0, 0.0, 0.0], [np.sqrt(3.0), 0.0, 0.0], [0.0, 1.0, 0.0]])
+    for order in ([0, 1, 2], [1, 2, 0], [2, 0, 1]):
+        angles = np.degrees(corner_angles(p[order][None]))[0]
+        expected = np.array([90.0, 30.0, 60.0])[order]
+        np.testing.assert_allclose(angles, expected, atol=1e-9)
+    sliver = np.array([[[0.0, 0, 0], [1.0, 0, 0], [0.5, 1e-9, 0]]])
+    np.testing.assert_allclose(corner_angles(sliver)[0].sum(), np.pi, atol=1e-12)
