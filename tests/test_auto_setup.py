@@ -20,6 +20,8 @@ from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from studio.core.wrinkles.wdv import WdvArea
 
+pytestmark = pytest.mark.core
+
 N = 21  # vertices along each side of the grid: spacing 0.1 over [-1, 1]
 SQUEEZE = 0.9  # the left half (x < 0) is squeezed to 90 % along x
 

@@ -63,6 +63,7 @@ def high() -> FaceMesh:
     return grid(241, sculpt)
 
 
+@pytest.mark.core
 def test_flat_quad_against_a_sinusoidal_sculpt_gives_the_analytic_normals(high):
     low = grid(2)  # one quad, two triangles
     result = bake_normal_map(low, high, SIZE, max_distance=0.1)
@@ -79,11 +80,13 @@ def test_flat_quad_against_a_sinusoidal_sculpt_gives_the_analytic_normals(high):
     assert angles(decode(sixteen.image), expected).max() < 0.2
 
 
+@pytest.mark.core
 def test_a_flat_sculpt_on_a_flat_face_bakes_a_flat_map():
     result = bake_normal_map(grid(3), grid(40), SIZE, max_distance=0.1)
     assert (result.image == (128, 128, 255)).all()
 
 
+@pytest.mark.core
 def test_a_groove_shows_as_two_tilted_walls():
     """The issue's case: a plane with a V groove along v, 0.1 wide and 0.02 deep at u = 0.5."""
     def groove(x, y):
@@ -102,6 +105,7 @@ def test_a_groove_shows_as_two_tilted_walls():
     assert (red[outside] == 128).all()
 
 
+@pytest.mark.core
 def test_the_tangent_frame_is_the_renderers_whatever_the_pose_or_handedness(high):
     """The map is read in each texel's tangent frame, so moving the face and sculpt together
     changes nothing, and a mirrored UV layout (tangent w = −1) mirrors the map."""
@@ -166,6 +170,7 @@ def decoded_error(low: FaceMesh, result, frame: str) -> float:
     return float(angles(shaded[inside], expected[inside]).max())
 
 
+@pytest.mark.core
 @pytest.mark.parametrize("frame", ["mikktspace", "thesis"])
 def test_the_shader_reading_the_map_gets_the_sculpt_normal_back_on_a_curved_face(frame):
     """A coarse cylinder (4 facets, UVs jittered so its interpolated tangent frames are not
@@ -182,6 +187,7 @@ def test_the_shader_reading_the_map_gets_the_sculpt_normal_back_on_a_curved_face
     assert decoded_error(low, result, other) > 0.5  # (0.76°, against 0.08° in its own)
 
 
+@pytest.mark.core
 def test_texels_without_a_hit_take_the_normal_at_the_same_uv(high):
     far = FaceMesh(high.rest + np.float32([0, 0, 5]), high.triangles, high.uvs, high.weld)
     result = bake_normal_map(grid(2), far, SIZE, max_distance=0.1)
@@ -189,6 +195,7 @@ def test_texels_without_a_hit_take_the_normal_at_the_same_uv(high):
     assert angles(result.normals, analytic_normals(SIZE)).max() < 0.2
 
 
+@pytest.mark.core
 def test_charts_are_padded_and_the_rest_is_flat():
     half = grid(2, uv_scale=0.5)  # the face covers the lower-left quarter of the map
     tilted = grid(20, lambda x, y: 0.3 * x, uv_scale=0.5)
@@ -201,6 +208,7 @@ def test_charts_are_padded_and_the_rest_is_flat():
     assert (result.image[:, q + 4:] == (128, 128, 255)).all()
 
 
+@pytest.mark.core
 def test_another_uv_layout_is_refused_naming_the_file(high):
     other = FaceMesh(high.rest, high.triangles, high.uvs * 0.5, high.weld, source="sculpt.obj")
     with pytest.raises(MeshError, match="UV layout differs") as info:
@@ -210,6 +218,7 @@ def test_another_uv_layout_is_refused_naming_the_file(high):
         bake_normal_map(grid(2), high, SIZE, max_distance=0.0)
 
 
+@pytest.mark.core
 def test_progress_rises_to_one_and_cancel_stops(high):
     seen: list[float] = []
     bake_normal_map(grid(2), high, SIZE, max_distance=0.1, progress=seen.append)
@@ -333,6 +342,7 @@ def test_a_sculpt_without_uvs_is_reported_by_name(window, qtbot, tmp_path, dialo
 # --------------------------------------------------------------------------------------------
 
 
+@pytest.mark.core
 def test_cli_bakes_into_the_project_and_a_png(tmp_path, capsys):
     from studio.cli import main
     from studio.core.files.images import load_rgb

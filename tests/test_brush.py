@@ -7,6 +7,8 @@ import pytest
 
 from studio.core.wrinkles.brush import Brush, Stroke, TileBackup, falloff, stamp, tile_changes
 
+pytestmark = pytest.mark.core
+
 
 def test_hard_dab_covers_exactly_the_pixels_within_the_radius():
     mask = np.zeros((64, 64), np.float32)

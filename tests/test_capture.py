@@ -104,6 +104,7 @@ def expected_weights(t: np.ndarray, values: np.ndarray, fps: float) -> dict[str,
             for k, pose in enumerate(MATCHED.values())}
 
 
+@pytest.mark.core
 @pytest.mark.parametrize("fps", [24.0, 30.0])
 def test_take_lands_on_the_timeline_at_the_right_frames_and_values(tmp_path, fps):
     t, values = write_take(tmp_path / "take.csv")
@@ -131,6 +132,7 @@ def test_take_lands_on_the_timeline_at_the_right_frames_and_values(tmp_path, fps
         assert len(track.keys) < frames  # keys where the curve needs them, not every frame
 
 
+@pytest.mark.core
 def test_report_names_matches_unmatched_columns_rotations_and_poses_without_a_column(tmp_path):
     write_take(tmp_path / "take.csv")
     _, report = apply_take(Timeline(fps=30.0), read_live_link_csv(tmp_path / "take.csv"), POSES)
@@ -148,6 +150,7 @@ def test_report_names_matches_unmatched_columns_rotations_and_poses_without_a_co
     assert "BrowDownLeft → browDown_L" in text
 
 
+@pytest.mark.core
 def test_other_tracks_are_kept_at_their_times_and_matched_ones_replaced(tmp_path):
     write_take(tmp_path / "take.csv")
     old = Timeline([Track("eyeLookUp_L", [Key(48.0, 0.7, "cosine")]),
@@ -161,6 +164,7 @@ def test_other_tracks_are_kept_at_their_times_and_matched_ones_replaced(tmp_path
     assert [(k.frame, k.value) for k in old.tracks[0].keys] == [(48.0, 0.7)]  # not changed
 
 
+@pytest.mark.core
 def test_a_take_at_30_fps_and_one_over_midnight(tmp_path):
     path = tmp_path / "take.csv"
     rows = [f"23:59:59:{f:06.3f},61,{f / 30:.4f}" for f in (27.0, 28.0, 29.0)]
@@ -171,6 +175,7 @@ def test_a_take_at_30_fps_and_one_over_midnight(tmp_path):
     assert np.allclose(take.times, np.arange(5) / 30.0)
 
 
+@pytest.mark.core
 def test_columns_match_any_arkit_spelling_and_each_pose_once():
     matched, unmatched, missing = match_columns(
         ["EyeBlinkLeft", "eyeBlink_L", "JAWOPEN", "Smile", "HeadYaw"],
@@ -193,6 +198,7 @@ def check_keys(curve_values: np.ndarray, tolerance: float) -> np.ndarray:
     return keys
 
 
+@pytest.mark.core
 def test_keys_reproduce_any_curve_within_the_tolerance():
     rng = np.random.default_rng(7)
     ramp = np.linspace(0.0, 1.0, 200)
@@ -209,6 +215,7 @@ def test_keys_reproduce_any_curve_within_the_tolerance():
 
 # --- the command line -----------------------------------------------------------------------
 
+@pytest.mark.core
 def test_cli_round_trip_keys_the_take_into_the_written_project(tmp_path, head_project):
     t, values = write_take(tmp_path / "take.csv")
     out = tmp_path / "out.wrinkle"
@@ -281,6 +288,7 @@ def test_cli_refuses_to_write_over_an_input_and_a_missing_take(tmp_path, head_pr
     assert snapshot(tmp_path) == before
 
 
+@pytest.mark.core
 def test_capture_error_names_the_file(tmp_path):
     (tmp_path / "t.csv").write_text("Timecode,JawOpen\n00:00:00:75.000,0.5\n")
     with pytest.raises(CaptureError, match="not below the take's rate of 60 fps") as info:
@@ -321,6 +329,7 @@ def write_gltf_take(path: Path, times: np.ndarray, weights: np.ndarray,
     path.write_text(json.dumps(doc))
 
 
+@pytest.mark.core
 def test_a_gltf_weights_animation_lands_like_a_csv_take(tmp_path, head_project):
     times = 0.5 + np.arange(49) / 24.0  # two seconds of keys, the first at 0.5 s
     weights = np.stack([curve(k, times) for k in range(4)], axis=1)
@@ -339,6 +348,7 @@ def test_a_gltf_weights_animation_lands_like_a_csv_take(tmp_path, head_project):
         assert np.abs(track.values_at(frames) - known).max() <= 1 / 255
 
 
+@pytest.mark.core
 def test_a_step_gltf_animation_holds_and_a_cubic_one_is_refused(tmp_path):
     times = np.array([0.0, 1.0, 2.0])
     weights = np.array([[0.0, 0.2, 0.4, 0.6], [1.0, 0.2, 0.4, 0.6], [0.5, 0.2, 0.4, 0.6]])

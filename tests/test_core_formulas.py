@@ -31,6 +31,8 @@ from studio.core.wrinkles.wdv import (
     wrinkle_directions,
 )
 
+pytestmark = pytest.mark.core
+
 
 def one_slot(direction, authored: float, cone_deg: float, wrinkle_map: int = 0,
              n: int = 1) -> WdvSlots:

@@ -21,6 +21,7 @@ from studio.render.settings import RenderSettings
 W, H = 400, 300
 
 
+@pytest.mark.core
 def test_a_triangles_texel_box_is_its_uv_footprint_grown_by_one_texel():
     uvs = np.array([[0.125, 0.875], [0.4375, 0.875], [0.125, 0.5625]])
     # on a 16 × 16 texture: x 2 … 7, rows (1 - v) * 16 = 2 … 7; end exclusive, one texel slack
@@ -28,6 +29,7 @@ def test_a_triangles_texel_box_is_its_uv_footprint_grown_by_one_texel():
     assert box.tolist() == [[1, 1, 9, 9]]
 
 
+@pytest.mark.core
 def test_boxes_touch_only_when_they_overlap():
     triangles = np.array([[0, 0, 5, 5], [5, 0, 8, 5], [0, 6, 2, 9]])
     areas = np.array([[4, 4, 6, 6],     # overlaps the first two, ends before the third's rows
@@ -38,6 +40,7 @@ def test_boxes_touch_only_when_they_overlap():
                                                       [False, False, True]]
 
 
+@pytest.mark.core
 def test_wrinkled_triangles_lead_the_order_each_group_in_mesh_order():
     triangles = np.arange(12).reshape(4, 3)
     flags = np.zeros(12, bool)
@@ -49,6 +52,7 @@ def test_wrinkled_triangles_lead_the_order_each_group_in_mesh_order():
     assert ordered[:, 0].tolist() == [3, 9, 0, 6]
 
 
+@pytest.mark.core
 def test_nearest_first_and_wrinkled_first_keep_the_depth_order_in_each_group():
     centroids = np.array([[0, 0, -5.0], [0, 0, 1.0], [0, 0, -1.0], [0, 0, 3.0]])
     view = np.eye(4)
@@ -60,6 +64,7 @@ def test_nearest_first_and_wrinkled_first_keep_the_depth_order_in_each_group():
     assert count == 2 and ordered[:, 0].tolist() == [6, 0, 9, 3]
 
 
+@pytest.mark.core
 def test_only_vertices_off_their_neutral_position_count_as_moved():
     rest = np.zeros((4, 3))
     positions = rest.copy()

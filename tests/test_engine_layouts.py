@@ -74,6 +74,7 @@ def check_sheet_against_files(project: Project, folder: Path) -> dict:
     return sheet
 
 
+@pytest.mark.core
 @pytest.mark.parametrize("key", list(LAYOUTS))
 def test_each_channel_holds_the_areas_its_sheet_names(key, tmp_path):
     project = arkit_face()
@@ -88,6 +89,7 @@ def test_each_channel_holds_the_areas_its_sheet_names(key, tmp_path):
     assert placed | flexed | unassigned == {a.name for a in project.influence.areas}
 
 
+@pytest.mark.core
 def test_the_sheet_names_the_engines_regions(tmp_path):
     project = arkit_face()
     export_layout(project, tmp_path / "mh", "metahuman")
@@ -115,6 +117,7 @@ def test_the_sheet_names_the_engines_regions(tmp_path):
     assert (tmp_path / "o3de" / "face_wrinklemasks" / "mouthSmile_R_wrinklemask.tif").is_file()
 
 
+@pytest.mark.core
 def test_the_sheet_carries_each_links_response_curve(tmp_path):
     project = arkit_face()
     pose, gains = next(iter(ARKIT_LINKS.items()))
@@ -130,6 +133,7 @@ def test_the_sheet_carries_each_links_response_curve(tmp_path):
     assert all("response" not in a for a in entries if a["area"] != area)  # linear: left out
 
 
+@pytest.mark.core
 def test_a_second_area_of_a_pose_takes_the_next_free_region(tmp_path):
     """browDown drives two MetaHuman regions: the first area fills browsLateral, the next
     browsDown; a third has no free region left and is added into the first."""
@@ -145,6 +149,7 @@ def test_a_second_area_of_a_pose_takes_the_next_free_region(tmp_path):
     assert where["brow knot left"] == ["head_wm2_browsLateral_L"]
 
 
+@pytest.mark.core
 def test_o3de_masks_follow_the_links_gains_per_wrinkle_layer(tmp_path):
     project = arkit_face()
     export_layout(project, tmp_path, "o3de")
@@ -156,6 +161,7 @@ def test_o3de_masks_follow_the_links_gains_per_wrinkle_layer(tmp_path):
     assert not squint[:, :, [c for c in range(4) if c != layer]].any()
 
 
+@pytest.mark.core
 def test_source_flex_weights_per_vertex_and_one_compress_map(tmp_path):
     project = arkit_face()
     export_layout(project, tmp_path, "source")
@@ -177,6 +183,7 @@ def test_source_flex_weights_per_vertex_and_one_compress_map(tmp_path):
     assert all(f["wrinkle_scale"] > 0 for f in sheet["flexes"])  # compression, never stretch
 
 
+@pytest.mark.core
 def test_a_wrinkle_map_slot_shows_each_areas_own_map(tmp_path):
     """The sample's forehead reveals the brow map and the eye corners another; MetaHuman's wm1
     holds both, each texel from the map of the area strongest there, neutral elsewhere."""
@@ -204,6 +211,7 @@ def test_a_wrinkle_map_slot_shows_each_areas_own_map(tmp_path):
     assert np.array_equal(wm1[none], textures.normal_neutral[:, :, :3][none])
 
 
+@pytest.mark.core
 def test_an_area_no_region_fits_is_reported(tmp_path):
     project = arkit_face()
     project.influence.areas.append(InfluenceArea("tongue", np.ones((32, 32), np.float32)))
@@ -215,6 +223,7 @@ def test_an_area_no_region_fits_is_reported(tmp_path):
     assert said["area"] == "tongue" and "metahuman" in said["why"]
 
 
+@pytest.mark.core
 def test_more_morph_target_masks_than_o3de_blends_is_refused(tmp_path):
     project = arkit_face()
     for i in range(17 - len(ARKIT_LINKS)):
@@ -245,6 +254,7 @@ def test_too_many_areas_for_a_layout_is_one_line_and_writes_nothing(tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.core
 def test_a_layout_never_writes_over_its_input(tmp_path):
     project = arkit_face()
     target = tmp_path / "face.glb"  # the name the layout gives its model

@@ -48,6 +48,7 @@ def head_project(unit: str = "mm", up: str = "z", poses=POSES) -> tuple[Producti
     return head, project
 
 
+@pytest.mark.core
 @pytest.mark.parametrize("up", ["z", "y"])
 @pytest.mark.parametrize("unit", ["mm", "cm", "m"])
 def test_up_front_and_left_are_found_in_any_units_and_axes(unit, up):
@@ -63,6 +64,7 @@ def test_up_front_and_left_are_found_in_any_units_and_axes(unit, up):
     assert 0.3 < hi[0] < 0.9 and -0.9 < lo[0] < -0.3
 
 
+@pytest.mark.core
 def test_the_box_is_the_same_at_every_scale():
     boxes = []
     for unit in ("mm", "cm", "m"):
@@ -72,6 +74,7 @@ def test_the_box_is_the_same_at_every_scale():
     np.testing.assert_allclose(boxes[0], boxes[2], atol=1e-4)
 
 
+@pytest.mark.core
 def test_a_given_up_axis_wins_and_a_bad_one_is_refused():
     _, project = head_project()
     project.view["up"] = "y"
@@ -81,6 +84,7 @@ def test_a_given_up_axis_wins_and_a_bad_one_is_refused():
         parse_axis("diagonal")
 
 
+@pytest.mark.core
 def test_without_poses_the_axis_convention_is_used_and_said():
     _, project = head_project(poses=())
     frame = face_frame(project)
@@ -91,6 +95,7 @@ def test_without_poses_the_axis_convention_is_used_and_said():
     assert "the usual convention with that up axis" in frame.how
 
 
+@pytest.mark.core
 def test_inward_normals_are_caught():
     _, project = head_project()
     mesh = project.mesh
@@ -164,6 +169,7 @@ def test_home_frames_the_face_and_the_numpad_views_follow_its_axes(open_window, 
     np.testing.assert_allclose(camera.direction(), frame.front, atol=1e-9)
 
 
+@pytest.mark.core
 def test_the_mirror_plane_is_the_heads_own_not_x_zero():
     """The head stands 35 cm to the side of the origin: mirroring across x = 0 would land
     nowhere near the face; across the face's own plane, the left eye corner maps to the

@@ -28,6 +28,8 @@ from studio.core.project.sample import make_sample
 from studio.core.project.schema import check_project
 from studio.core.project.writer import save_project
 
+pytestmark = pytest.mark.core
+
 EXAMPLES = int(os.environ.get("WRINKLE_FUZZ_EXAMPLES", "250"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=False,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])

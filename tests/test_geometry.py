@@ -19,6 +19,8 @@ from studio.core.mesh.geometry import (
     vertex_tangents,
 )
 
+pytestmark = pytest.mark.core
+
 S2 = np.sqrt(2.0)
 S3 = np.sqrt(3.0)
 S5 = np.sqrt(5.0)

@@ -17,6 +17,8 @@ from studio.core.project.gltf import load_gltf, save_gltf
 from studio.core.project.reader import load_project
 from studio.core.project.sample import make_sample
 
+pytestmark = pytest.mark.core
+
 
 @pytest.fixture(scope="module")
 def small():

@@ -16,6 +16,8 @@ from studio.core.mesh.geometry import DeformCache
 from studio.core.project.gltf import _Gltf, load_gltf, save_gltf
 from studio.core.project.sample import make_sample
 
+pytestmark = pytest.mark.core
+
 
 @pytest.fixture
 def small():

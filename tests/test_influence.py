@@ -6,6 +6,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import pytest
 
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 
@@ -25,6 +26,7 @@ def _plain(influence: InfluenceSetup, weights: dict[str, float]) -> np.ndarray:
 WEIGHTS = {"surprise": 0.8, "squeeze": 0.3, "frown": 1.0, "brow_raise_left": 0.4}
 
 
+@pytest.mark.core
 def test_activations_follow_changes_made_straight_to_the_data(sample):
     influence = sample.influence
     names = [a.name for a in influence.areas]

@@ -8,6 +8,8 @@ import pytest
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.wrinkles import mask_ops
 
+pytestmark = pytest.mark.core
+
 
 def test_fill_invert_levels():
     m = np.array([[0.0, 0.25], [0.5, 1.0]], np.float32)

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from studio.core.wrinkles.mask_sparse import K, composed_weight, quantise, sparse_masks
+
+pytestmark = pytest.mark.core
 
 
 def direct_sum(masks, activations):

@@ -12,6 +12,8 @@ from studio.core.files.errors import MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.meshio import load_mesh, load_pose, save_obj
 
+pytestmark = pytest.mark.core
+
 # A quad (v/vt/vn), a pentagon (v/vt) whose first and last corners reuse v2 and v3 with other
 # texture coordinates (a UV seam), and a triangle written with negative (relative) indices.
 NEUTRAL_OBJ = """\

@@ -7,6 +7,8 @@ import pytest
 
 from studio.core.mesh.picking import nearest_corner, ray_triangles
 
+pytestmark = pytest.mark.core
+
 # two unit squares' worth of triangles facing +Z, one at z=0 and one behind it at z=-1
 POSITIONS = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0],
                       [0, 0, -1], [1, 0, -1], [0, 1, -1]], np.float32)

@@ -14,6 +14,8 @@ from studio.core.animation.pose_names import (
     swapped_sides,
 )
 
+pytestmark = pytest.mark.core
+
 SPELLINGS = [  # (as a rig or a capture file writes it, ARKit name, side)
     ("eyeBlinkLeft", "eyeBlinkLeft", "left"),
     ("EyeBlinkLeft", "eyeBlinkLeft", "left"),  # Live Link Face CSV

@@ -7,6 +7,8 @@ import pytest
 
 from studio.core.animation.poses import NEUTRAL, PoseBlender
 
+pytestmark = pytest.mark.core
+
 
 def _plain_blend(project, weights: dict[str, float]) -> np.ndarray:
     """The formula written the obvious way, in float64."""

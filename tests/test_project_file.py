@@ -37,6 +37,8 @@ from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 from studio.core.wrinkles.textures import FaceTextures
 from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
+pytestmark = pytest.mark.core
+
 MASK_H, MASK_W = 48, 64
 
 

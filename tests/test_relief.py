@@ -27,6 +27,7 @@ def correlation(a: np.ndarray, b: np.ndarray) -> float:
 
 # --- wrinkle height from normal maps (numpy) ---------------------------------------------------
 
+@pytest.mark.core
 @pytest.mark.parametrize("periods", [(3.0, 2.0), (2.5, 1.5)])  # whole, and cut at the borders
 def test_a_sinusoidal_height_is_recovered_from_its_normal_map(periods):
     rows, cols = 96, 128
@@ -38,6 +39,7 @@ def test_a_sinusoidal_height_is_recovered_from_its_normal_map(periods):
     assert correlation(recovered, height) > 0.99  # equal up to a constant and a scale
 
 
+@pytest.mark.core
 def test_up_and_down_are_not_swapped():
     """A bump rising toward +u (right) and +v (up the image) comes back as a bump."""
     y, x = np.mgrid[0:64, 0:64].astype(np.float64)
@@ -46,6 +48,7 @@ def test_up_and_down_are_not_swapped():
     assert np.unravel_index(np.argmax(recovered), recovered.shape) == (20, 40)
 
 
+@pytest.mark.core
 def test_a_flat_map_has_no_height_and_no_wrinkles():
     flat = flat_normal_map(32)
     assert np.abs(height_from_normals(flat)).max() < 1e-6
@@ -53,6 +56,7 @@ def test_a_flat_map_has_no_height_and_no_wrinkles():
     assert heights.shape == (2, 32, 32) and not heights.any()
 
 
+@pytest.mark.core
 def test_wrinkle_height_is_a_valley_where_only_the_wrinkled_map_has_it():
     rng = np.random.default_rng(1)
     pores = rng.standard_normal((80, 80)) * 0.02
@@ -73,6 +77,7 @@ def test_wrinkle_height_is_a_valley_where_only_the_wrinkled_map_has_it():
     assert not image[..., 2:].any()
 
 
+@pytest.mark.core
 def test_large_maps_give_heights_at_a_fraction_of_their_size_with_every_wrinkle():
     x = np.arange(300)[None, :]
     valley = -np.exp(-0.5 * ((x - 151) / 1.5) ** 2) * np.ones((300, 1))  # 5 texels wide

@@ -21,6 +21,8 @@ from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 from studio.core.wrinkles.response import LABELS, CurveBank, ResponseCurve, curves_from_dict
 from tests.test_project_file import make_project, members, rewrite
 
+pytestmark = pytest.mark.core
+
 EASE_IN = ResponseCurve("ease_in")
 CUSTOM = ResponseCurve("custom", points=((0.2, 0.0), (0.6, 0.9), (1.0, 1.0)))
 

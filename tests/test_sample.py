@@ -11,6 +11,8 @@ from studio.core.project.sample import landmark_uvs, make_sample, sample_landmar
 from studio.core.project.sample_mesh import build_geometry
 from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 
+pytestmark = pytest.mark.core
+
 POSES = ["brow_raise_right", "brow_raise_left", "surprise", "squeeze", "frown"]
 MASKS = ["forehead right", "forehead left", "between brows", "eye corner right",
          "eye corner left", "under eye right", "under eye left", "cheeks"]

@@ -10,6 +10,8 @@ from studio.core.mesh import selection as sel
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.geometry import vertex_normals
 
+pytestmark = pytest.mark.core
+
 
 def grid(n: int = 5, spacing: float = 1.0, z: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """An n×n grid in the plane z (centred on x = 0), two triangles per cell, facing +Z."""

@@ -8,6 +8,8 @@ import pytest
 from studio.core.wrinkles.skin_strain import WRINKLING_COMPRESSION, SkinStrain, compression_weights
 from tests.test_auto_setup import grid_mesh
 
+pytestmark = pytest.mark.core
+
 
 def rotation_z(degrees: float) -> np.ndarray:
     a = np.radians(degrees)

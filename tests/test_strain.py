@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.sample import make_sample, sample_landmarks
 from studio.core.wrinkles.strain import StrainField
+
+pytestmark = pytest.mark.core
 
 
 def strip() -> FaceMesh:

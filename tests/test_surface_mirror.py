@@ -23,6 +23,8 @@ from studio.core.wrinkles.surface_mirror import (
     footprint_ring,
 )
 
+pytestmark = pytest.mark.core
+
 N = 4  # quads per unit along each axis
 
 

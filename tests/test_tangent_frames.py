@@ -13,6 +13,8 @@ from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache, vertex_normals, vertex_tangents
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES, corner_angles, mikktspace_tangents
 
+pytestmark = pytest.mark.core
+
 UP = np.array([[0.0, 0.0, 1.0]])
 
 

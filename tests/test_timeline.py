@@ -10,6 +10,8 @@ import pytest
 
 from studio.core.animation.timeline import INTERPOLATIONS, Key, Timeline, Track, sequence_all_poses
 
+pytestmark = pytest.mark.core
+
 
 def track(mode: str) -> Track:
     """0 at frame 10 rising to 1 at frame 20 (shaped by ``mode``), back to 0.5 at frame 30."""

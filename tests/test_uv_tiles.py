@@ -21,6 +21,8 @@ from studio.core.mesh.uv_tiles import (
 )
 from studio.core.project.texture_sets import find_tile_set, load_texture
 
+pytestmark = pytest.mark.core
+
 
 def test_udim_numbers_follow_the_convention():
     u = np.array([0.5, 1.5, 9.5, 0.5, 2.0])

@@ -3,7 +3,11 @@ viewport."""
 
 from __future__ import annotations
 
+import pytest
+
 from studio.core.project.view_settings import ViewSettings
+
+pytestmark = pytest.mark.core
 
 
 def test_unknown_choices_and_wrong_types_fall_back_to_defaults():

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from studio.core.wrinkles.wdv import SLOTS, WdvArea, WdvSetup, wrinkle_directions
+
+pytestmark = pytest.mark.core
 
 
 def area(name: str, lengths: list[float], **kwargs) -> WdvArea:

@@ -12,6 +12,8 @@ from studio.core.wrinkles.skin_strain import triangle_strain
 from studio.core.wrinkles.textures import flat_normal_map
 from tests.test_auto_setup import grid_mesh, grid_project, squeezed
 
+pytestmark = pytest.mark.core
+
 SIZE = 128
 SPACING = 8.0
 OPTIONS = synth.SynthOptions(size=SIZE, spacing=SPACING, depth=2.0)
