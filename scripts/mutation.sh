@@ -1,26 +1,30 @@
 #!/usr/bin/env bash
 # Mutation testing of studio/core with mutmut 3: every small change mutmut makes to a core
-# function must turn one of the fast tests ([tool.mutmut] in pyproject.toml: numpy only, no GL
-# or Qt) that call that function red. mutmut records which tests call which function and runs
-# only those for each mutant.
+# function must turn one of the fast tests (marked `core`: numpy only, in-process) that call
+# that function red. mutmut records which tests call which function and runs only those for
+# each mutant; its results stay in mutants/ and a later run re-tests only the functions whose
+# code changed since (the cache).
 #
-# Usage: bash scripts/mutation.sh [MODULE.py ...]
-#   no argument   the whole of studio/core (about 26 500 mutants: hours on two cores)
+# Usage: bash scripts/mutation.sh [--fresh | --recheck | --formulas | MODULE.py ... ]
+#   no argument   the whole of studio/core (about 28 500 mutants; a first run takes about an
+#                 hour and a half on two cores, a later one only what changed)
+#   --fresh       the whole of studio/core, the cache dropped first
+#   --recheck     only the mutants not caught last time (survived, or no test called them):
+#                 the run to make after writing tests that should kill them
 #   --formulas    the modules holding the techniques' formulas and the shaders' numpy
-#                 references (FORMULAS below: about 2 800 mutants, 15-25 minutes on two cores)
+#                 references (FORMULAS below)
 #   MODULE.py ... those files only (paths like studio/core/wrinkles/wdv.py)
+#   --check MUTANT TEST...   run the given tests against one mutant (killed: they fail), e.g.
+#                 --check studio.core.wrinkles.wdv.x_visibility__mutmut_3 tests/test_wdv_slots.py
 #   JOBS=N   parallel mutants (default: the number of cores)
 #   VENV=dir the virtualenv (default .venv, as scripts/test.sh makes it)
-# A subset runs in a copy of the working tree whose pyproject names just those files (mutmut 3
-# takes the files to mutate from pyproject only); its mutants/ folder is copied back here.
 # At the end it prints the score per module and overall (killed + timed out over all tested)
-# and writes the survivors to mutants/survivors.txt; `$VENV/bin/mutmut show NAME` (run inside
-# the folder that holds mutants/) shows one.
+# and writes the survivors to mutants/survivors.txt; `$VENV/bin/mutmut show NAME` shows one.
 # Run it on a quiet machine: a timed-out mutant counts as killed (mutmut's rule; the timeout
-# is fifteen times the tests' own time, so a busy machine rarely fakes one).
+# is fifteen times the tests' own time, so a busy machine rarely fakes one). The property-based
+# fuzz tests run 25 examples per mutant (WRINKLE_FUZZ_EXAMPLES) instead of the suite's 250.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ROOT=$PWD
 VENV=$(cd "${VENV:-.venv}" && pwd)
 FORMULAS="studio/core/animation/poses.py studio/core/animation/timeline.py
   studio/core/animation/pose_names.py studio/core/mesh/picking.py studio/core/mesh/uv_tiles.py
@@ -30,28 +34,30 @@ FORMULAS="studio/core/animation/poses.py studio/core/animation/timeline.py
   studio/core/wrinkles/normalmap.py"
 # one thread per mutant: the workers already fill the cores
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1
-"$VENV/bin/python" -m pip install -q "mutmut>=3.3,<4"
-files=""
-if [ "${1:-}" = "--formulas" ]; then files=$FORMULAS; elif [ "$#" -gt 0 ]; then files="$*"; fi
-rm -rf mutants
-if [ -z "$files" ]; then
-    "$VENV/bin/mutmut" run --max-children "${JOBS:-$(nproc)}" || true
-else
-    work=$(mktemp -d)
-    trap 'rm -rf "$work"' EXIT
-    tar --exclude=./.venv --exclude=./mutants --exclude=./.node --exclude=./.git -cf - . \
-        | tar -xf - -C "$work"
-    "$VENV/bin/python" - "$work/pyproject.toml" $files <<'PY'
-import re, sys
-from pathlib import Path
-path, files = Path(sys.argv[1]), sys.argv[2:]
-text, count = re.subn(r"(?m)^only_mutate = .*$",
-                      "only_mutate = [" + ", ".join(f'"{f}"' for f in files) + "]",
-                      path.read_text())
-assert count == 1, "pyproject.toml has no one-line only_mutate"
-path.write_text(text)
-PY
-    (cd "$work" && "$VENV/bin/mutmut" run --max-children "${JOBS:-$(nproc)}") || true
-    cp -r "$work/mutants" "$ROOT/mutants"
+export WRINKLE_FUZZ_EXAMPLES=${WRINKLE_FUZZ_EXAMPLES:-25}
+"$VENV/bin/python" -m pip install -q "mutmut>=3.8,<4"
+
+if [ "${1:-}" = "--check" ]; then
+    [ "$#" -ge 3 ] || { echo "usage: mutation.sh --check MUTANT TEST..." >&2; exit 2; }
+    mutant=$2; shift 2
+    [ -d mutants/tests ] || { echo "no mutants/ yet: run mutation.sh first" >&2; exit 2; }
+    for test in "$@"; do cp "${test%%::*}" "mutants/${test%%::*}"; done
+    if (cd mutants && MUTANT_UNDER_TEST=$mutant "$VENV/bin/python" -m pytest -p no:xvfb \
+            -p no:cacheprovider -q -x "$@"); then
+        echo "$mutant survives these tests"; exit 1
+    fi
+    echo "$mutant is killed"; exit 0
 fi
+
+names=()
+case "${1:-}" in
+    --fresh) rm -rf mutants ;;
+    --recheck)
+        mapfile -t names < <("$VENV/bin/python" scripts/mutation_report.py --not-caught)
+        [ "${#names[@]}" -gt 0 ] || { echo "nothing left to recheck"; exit 0; } ;;
+    --formulas) for f in $FORMULAS; do names+=("$(echo "${f%.py}" | tr / .).*"); done ;;
+    "") ;;
+    *) for f in "$@"; do names+=("$(echo "${f%.py}" | tr / .).*"); done ;;
+esac
+"$VENV/bin/mutmut" run --max-children "${JOBS:-$(nproc)}" "${names[@]}" || true
 "$VENV/bin/python" scripts/mutation_report.py

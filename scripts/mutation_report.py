@@ -9,14 +9,18 @@ that crashed the interpreter ("segfault") or is "suspicious" counts as not caugh
 from __future__ import annotations
 
 import json
+import sys
 from collections import Counter
 from pathlib import Path
 
 from mutmut.stats import status_by_exit_code
 
+NOT_CAUGHT = ("survived", "no tests")
+
 
 def main() -> None:
-    """Print the table and write mutants/survivors.txt."""
+    """Print the table and write mutants/survivors.txt; with ``--not-caught``, print only the
+    names of the mutants not caught (for ``mutation.sh --recheck``)."""
     rows: dict[str, Counter] = {}
     survivors: list[str] = []
     core = Path("mutants/studio/core")
@@ -26,9 +30,12 @@ def main() -> None:
         for name, code in data.get("exit_code_by_key", {}).items():
             verdict = status_by_exit_code[code]
             counts[verdict] += 1
-            if verdict in ("survived", "no tests"):
+            if verdict in NOT_CAUGHT:
                 survivors.append(f"{verdict:9} {name}")
         rows[str(meta.relative_to(core)).removesuffix(".py.meta")] = counts
+    if "--not-caught" in sys.argv[1:]:
+        print("\n".join(line.split()[-1] for line in survivors))
+        return
     total: Counter = Counter()
     print(f"{'module':24} {'mutants':>7} {'killed':>7} {'timeout':>7} {'survived':>8} "
           f"{'no tests':>8} {'other':>6} {'score':>6}")
