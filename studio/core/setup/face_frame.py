@@ -272,9 +272,9 @@ def _conventional_front(up: Array) -> tuple[Array, str]:
 
 def _front_guess(rest: Array, skin: Array, up: Array) -> Array:
     """Without deforming poses: the upper half of the skin, to frame (a face is not a neck)."""
+    skin = skin if skin.any() else np.ones(len(rest), bool)  # none marked: all of it
     height = rest @ up
-    skin_height = height[skin] if skin.any() else height
-    return skin & (height >= np.percentile(skin_height, 50))
+    return skin & (height >= np.percentile(height[skin], 50))
 
 
 def _front(rest: Array, triangles: Array, region: Array, skin: Array, up: Array
@@ -284,12 +284,15 @@ def _front(rest: Array, triangles: Array, region: Array, skin: Array, up: Array
     p = rest[tri]
     normal_sum = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]).sum(axis=0)
     horizontal = normal_sum - np.dot(normal_sum, up) * up
-    centre_offset = rest[region].mean(axis=0) - (rest[skin] if skin.any() else rest).mean(axis=0)
+    head = rest[skin] if skin.any() else rest
+    centre_offset = rest[region].mean(axis=0) - head.mean(axis=0)
     offset = centre_offset - np.dot(centre_offset, up) * up
+    # the face sits off the head's centre by more than rounding (relative to the head's size)
+    off_centre = np.linalg.norm(offset) > 1e-6 * np.ptp(head, axis=0).max()
     reason = "the way the face's surface faces"
     if np.linalg.norm(horizontal) <= 1e-9 * max(np.linalg.norm(normal_sum), 1e-300):
         horizontal, reason = offset, "where the face sits on the head"
-    elif np.linalg.norm(offset) > 0 and np.dot(horizontal, offset) < -0.5 * np.linalg.norm(
+    elif off_centre and np.dot(horizontal, offset) < -0.5 * np.linalg.norm(
             horizontal) * np.linalg.norm(offset):
         horizontal, reason = -horizontal, "the surface's normals point inward; taken reversed"
     if np.linalg.norm(horizontal) == 0:
