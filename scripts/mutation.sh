@@ -3,12 +3,14 @@
 # function must turn one of the fast tests (marked `core`: numpy only, in-process) that call
 # that function red. mutmut records which tests call which function and runs only those for
 # each mutant; its results stay in mutants/ and a later run re-tests only the functions whose
-# code changed since (the cache).
+# code changed since (the cache). Each run also saves the results to BASELINE (committed, a
+# hundred kilobytes): a run that finds no mutants/ (a fresh clone, another machine) starts from
+# those, so a measurement that takes longer than one sitting carries on where it stopped.
 #
 # Usage: bash scripts/mutation.sh [--fresh | --recheck | --formulas | MODULE.py ... ]
-#   no argument   the whole of studio/core (about 28 500 mutants; a first run takes about an
-#                 hour and a half on two cores, a later one only what changed)
-#   --fresh       the whole of studio/core, the cache dropped first
+#   no argument   the whole of studio/core (about 28 500 mutants: a first run takes several
+#                 hours on two cores, a later one re-tests only what changed)
+#   --fresh       the whole of studio/core, the cache and the saved results dropped first
 #   --recheck     only the mutants not caught last time (survived, or no test called them):
 #                 the run to make after writing tests that should kill them
 #   --formulas    the modules holding the techniques' formulas and the shaders' numpy
@@ -18,6 +20,9 @@
 #                 --check studio.core.wrinkles.wdv.x_visibility__mutmut_3 tests/test_wdv_slots.py
 #   JOBS=N   parallel mutants (default: the number of cores)
 #   VENV=dir the virtualenv (default .venv, as scripts/test.sh makes it)
+#   MUTANT_TEST_SECONDS=S  a mutant gets the tests that call it quickest first, up to S seconds
+#            of their measured time (default 2; tests/conftest.py): a mutant only slower tests
+#            would catch counts as surviving, so the score is never flattered
 # At the end it prints the score per module and overall (killed + timed out over all tested)
 # and writes the survivors to mutants/survivors.txt; `$VENV/bin/mutmut show NAME` shows one.
 # Run it on a quiet machine: a timed-out mutant counts as killed (mutmut's rule; the timeout
@@ -26,6 +31,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=$(cd "${VENV:-.venv}" && pwd)
+BASELINE=tests/mutation-baseline.json.gz
 FORMULAS="studio/core/animation/poses.py studio/core/animation/timeline.py
   studio/core/animation/pose_names.py studio/core/mesh/picking.py studio/core/mesh/uv_tiles.py
   studio/core/files/png_unfilter.py studio/core/wrinkles/wdv.py
@@ -50,8 +56,13 @@ if [ "${1:-}" = "--check" ]; then
 fi
 
 names=()
+if [ "${1:-}" = "--fresh" ]; then
+    rm -rf mutants
+elif [ -f "$BASELINE" ] && ! compgen -G "mutants/studio/core/*/*.meta" >/dev/null; then
+    "$VENV/bin/python" scripts/mutation_report.py --restore "$BASELINE"
+fi
 case "${1:-}" in
-    --fresh) rm -rf mutants ;;
+    --fresh) ;;
     --recheck)
         mapfile -t names < <("$VENV/bin/python" scripts/mutation_report.py --not-caught)
         [ "${#names[@]}" -gt 0 ] || { echo "nothing left to recheck"; exit 0; } ;;
@@ -60,4 +71,5 @@ case "${1:-}" in
     *) for f in "$@"; do names+=("$(echo "${f%.py}" | tr / .).*"); done ;;
 esac
 "$VENV/bin/mutmut" run --max-children "${JOBS:-$(nproc)}" "${names[@]}" || true
+"$VENV/bin/python" scripts/mutation_report.py --save "$BASELINE"
 "$VENV/bin/python" scripts/mutation_report.py
