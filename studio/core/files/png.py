@@ -8,8 +8,8 @@ without loss. Every problem with the bytes raises :class:`PngError` (a ``ValueEr
 
 Decoding is vectorised: rows filtered with None/Sub/Up are undone with cumulative sums; the
 Average and Paeth filters depend on the pixel to the left *and* the row above, so images that use
-them are undone one anti-diagonal at a time (each diagonal's pixels are independent), which
-costs width + height numpy steps rather than a Python loop over pixels.
+them are undone by Pillow's C decoder, a few bytes of each pixel at a time
+(``studio.core.files.png_unfilter``).
 """
 
 from __future__ import annotations
@@ -116,7 +116,7 @@ def _unfilter(raw: Array, bpp: int) -> Array:
     kinds, data = raw[:, 0], raw[:, 1:]
     if (kinds > 4).any():
         raise PngError(f"the PNG image uses an unknown row filter {int(kinds.max())}")
-    if ((kinds == 3) | (kinds == 4)).any():  # in C: the diagonals take seconds on big images
+    if ((kinds == 3) | (kinds == 4)).any():  # in C: in numpy these take seconds on big images
         from studio.core.files.png_unfilter import unfilter_with_pillow
 
         return unfilter_with_pillow(kinds, data, bpp)
@@ -133,27 +133,6 @@ def _unfilter(raw: Array, bpp: int) -> Array:
         start = np.maximum.accumulate(np.where(up, 0, np.arange(h)))
         out = sums[1:] - sums[start]
     return out
-
-
-def _unfilter_diagonals(kinds: Array, data: Array, bpp: int) -> Array:
-    """Any mix of the five filters, one anti-diagonal of pixels at a time (see module doc)."""
-    h, stride = data.shape
-    w = stride // bpp
-    filtered = data.reshape(h, w, bpp)
-    recon = np.zeros((h + 1, w + 1, bpp), dtype=np.uint8)  # zero row above, zero column left
-    for d in range(h + w - 1):
-        ys = np.arange(max(0, d - w + 1), min(h, d + 1))
-        xs = d - ys
-        a = recon[ys + 1, xs].astype(np.int16)
-        b = recon[ys, xs + 1].astype(np.int16)
-        c = recon[ys, xs].astype(np.int16)
-        k = kinds[ys][:, None]
-        p = a + b - c
-        pa, pb, pc = np.abs(p - a), np.abs(p - b), np.abs(p - c)
-        paeth = np.where((pa <= pb) & (pa <= pc), a, np.where(pb <= pc, b, c))
-        pred = np.select([k == 1, k == 2, k == 3, k == 4], [a, b, (a + b) >> 1, paeth], 0)
-        recon[ys + 1, xs + 1] = (filtered[ys, xs] + pred) & 0xFF
-    return recon[1:, 1:].reshape(h, stride)
 
 
 def decode_png(data: bytes, max_bytes: int = 1 << 31) -> Array:

@@ -46,6 +46,12 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def _not_regular(mode: int, what: str) -> str:
+    """"not a file: this is a folder, not an image" — the message for a path of ``mode``."""
+    article = "an" if what[:1].lower() in "aeiou" else "a"
+    return f"not a file: this is {_kind(mode)}, not {article} {what}"
+
+
 def require_regular(path: str | Path, error: type[StudioError] = StudioError,
                     what: str = "file") -> Path:
     """Raise ``error`` unless ``path`` is an existing regular file (links followed).
@@ -61,7 +67,7 @@ def require_regular(path: str | Path, error: type[StudioError] = StudioError,
     except OSError as exc:
         raise error(f"cannot read the {what}: {exc.strerror or exc}", path) from None
     if not stat.S_ISREG(mode):
-        raise error(f"not a file: this is {_kind(mode)}, not a {what}", path)
+        raise error(_not_regular(mode, what), path)
     return path
 
 
@@ -81,7 +87,7 @@ def read_regular(path: str | Path, limit: int, error: type[StudioError] = Studio
     try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
-            raise error(f"not a file: this is {_kind(info.st_mode)}, not a {what}", path)
+            raise error(_not_regular(info.st_mode, what), path)
         if info.st_size > limit:
             how = f" (set {setting} to raise it)" if setting else ""
             raise error(f"the {what} is {info.st_size} bytes, more than the limit of {limit} "
