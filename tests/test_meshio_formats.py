@@ -285,6 +285,7 @@ def test_a_non_finite_vertex_is_named(tmp_path: Path):
     _raises(path, "vertex 3 has a non-finite coordinate (NaN or infinity)")
 
 
+@pytest.mark.filterwarnings("ignore:invalid value encountered in cast:RuntimeWarning")  # trimesh
 def test_a_non_finite_texture_coordinate_is_named(tmp_path: Path):
     """The first vertex whose UV has NaN is named, counted from 1."""
     vertices = [v[:] for v in SQUARE]
