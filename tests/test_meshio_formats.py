@@ -16,6 +16,7 @@ import pytest
 
 from studio.core.files.errors import MeshError
 from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices, obj_groups
+from tests.test_meshio import PARTS_OBJ, _write
 
 pytestmark = pytest.mark.core
 
@@ -389,36 +390,7 @@ def test_a_pose_with_a_different_later_triangle_names_it(tmp_path: Path):
 # OBJ parts kept for key poses
 # --------------------------------------------------------------------------------------------
 
-# Skin (two quads, group and material "skin") then an eye (two triangles, group "eyes",
-# material "eye") sharing v5 and v6 with the skin.
-PARTS = """\
-o Head
-v 0 0 0
-v 1 0 0
-v 2 0 0
-v 0 1 0
-v 1 1 0
-v 2 1 0
-v 1 2 0
-v 2 2 0
-vt 0 0
-vt 1 0
-vt 0 1
-vt 1 1
-g skin
-usemtl skin
-f 1/1 2/2 5/4 4/3
-f 2/1 3/2 6/4 5/3
-g eyes
-usemtl eye
-f 5/1 6/2 8/4
-f 5/1 8/4 7/3
-"""
-
-
-def _write(path: Path, text: str) -> Path:
-    path.write_text(text, encoding="utf-8")
-    return path
+PARTS = PARTS_OBJ  # the artist's head of tests/test_meshio.py: skin quads, an eye
 
 
 def _raised(text: str) -> str:
@@ -467,9 +439,9 @@ def test_a_kept_part_s_mismatch_is_named_in_the_file_s_numbers(tmp_path: Path):
     line and v numbers, not the numbers after the cut."""
     neutral = load_mesh(_write(tmp_path / "head.obj", PARTS), keep=["eyes"])
     assert neutral.n_welded == 4
-    changed = PARTS.replace("f 5/1 8/4 7/3", "f 6/1 8/4 7/3")
+    changed = PARTS.replace("f 5/7 8/10 7/9", "f 6/7 8/10 7/9")
     path = _write(tmp_path / "changed.obj", changed)
-    _raises(path, "face 4 (line 21) uses vertices (6, 8, 7), the neutral mesh's face 4 uses "
+    _raises(path, "face 4 (line 28) uses vertices (6, 8, 7), the neutral mesh's face 4 uses "
                   "(5, 8, 7)", lambda: load_pose(path, neutral))
 
 
