@@ -207,6 +207,7 @@ class _Gltf:
         values = raw.astype(np.float64)
         if acc.get("normalized") and dtype.kind in "iu":
             values /= float(np.iinfo(dtype).max)
+            np.maximum(values, -1.0, out=values)  # glTF: the most negative integer is −1 too
         if not np.isfinite(values).all():
             raise MeshError(f"accessor {index} holds non-finite numbers (NaN or infinity)",
                             self.path)
@@ -226,11 +227,11 @@ class _Gltf:
         return self.accessor(index)
 
     def image(self, index: int) -> Array:
+        spec = _item(self, "images", index)  # a negative index would read from the end
         try:
-            spec = self.doc["images"][index]
             if "bufferView" in spec:
                 buffer, start, _ = self._view(spec["bufferView"])
-                length = self.doc["bufferViews"][spec["bufferView"]]["byteLength"]
+                length = _item(self, "bufferViews", spec["bufferView"])["byteLength"]
                 data = bytes(buffer[start:start + length])
             else:
                 data = self._buffer({"uri": spec["uri"]}, None)
@@ -242,8 +243,8 @@ class _Gltf:
         if not info:
             return None
         try:
-            source = self.doc["textures"][info["index"]]["source"]
-        except (KeyError, IndexError, TypeError):
+            source = _item(self, "textures", info["index"])["source"]
+        except (MeshError, KeyError, TypeError):
             raise MeshError("a material refers to a texture that does not exist",
                             self.path) from None
         return self.image(source)
