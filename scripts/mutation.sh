@@ -38,6 +38,7 @@ FORMULAS="studio/core/animation/poses.py studio/core/animation/timeline.py
   studio/core/wrinkles/mask_sparse.py studio/core/wrinkles/influence.py
   studio/core/wrinkles/response.py studio/core/wrinkles/strain.py
   studio/core/wrinkles/normalmap.py"
+JOBS=${JOBS:-$(nproc)}  # before OMP_NUM_THREADS is set: GNU nproc obeys it
 # one thread per mutant: the workers already fill the cores
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 MKL_NUM_THREADS=1
 export WRINKLE_FUZZ_EXAMPLES=${WRINKLE_FUZZ_EXAMPLES:-25}
@@ -70,6 +71,6 @@ case "${1:-}" in
     "") ;;
     *) for f in "$@"; do names+=("$(echo "${f%.py}" | tr / .).*"); done ;;
 esac
-"$VENV/bin/mutmut" run --max-children "${JOBS:-$(nproc)}" "${names[@]}" || true
+"$VENV/bin/mutmut" run --max-children "$JOBS" "${names[@]}" || true
 "$VENV/bin/python" scripts/mutation_report.py --save "$BASELINE"
 "$VENV/bin/python" scripts/mutation_report.py
