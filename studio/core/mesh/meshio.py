@@ -20,6 +20,7 @@ face or vertex (numbered from 1, as in the file) — never a bare traceback.
 
 from __future__ import annotations
 
+import re
 import weakref
 from collections.abc import Collection
 from dataclasses import dataclass, field
@@ -390,8 +391,11 @@ def _face_indices(
     n = len(corners)
     joined = " ".join(corners)
     slashes = joined.count("/")
-    if "//" not in joined and slashes in (0, n, 2 * n):
-        width = slashes // n + 1
+    width = slashes // max(n, 1) + 1
+    # the total alone would take "1/1 2/2/1 3" for three v/vt corners: no corner may have
+    # more slashes than the form's, so that every corner has exactly as many
+    one_too_many = "/[^ /]*" * width
+    if "//" not in joined and slashes in (0, n, 2 * n) and not re.search(one_too_many, joined):
         try:
             numbers = np.array(joined.replace("/", " ").split(), dtype=np.int64)
         except (ValueError, OverflowError):
