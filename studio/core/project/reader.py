@@ -329,13 +329,18 @@ class _Loader:
 
     def uv_tiles(self, doc: dict[str, Any], n_vertices: int) -> UvTiles:
         tiles_doc = self.field(doc, "uv_tiles", "object", "")
+        member = self.field(tiles_doc, "vertex_tile", "text", "uv_tiles.")
+        # the loader's own errors already name project.json or the member: only the layout's
+        # and the tiles' checks need the prefix
         try:
             layout = TileLayout.from_dict(tiles_doc)
-            vertex_tile = self.array(self.field(tiles_doc, "vertex_tile", "text", "uv_tiles."),
-                                     np.int16, (n_vertices,), "the vertices' UV tiles")
-            return UvTiles(layout, vertex_tile)
         except StudioError as exc:
             self.fail(f"project.json: {exc.problem}")
+        vertex_tile = self.array(member, np.int16, (n_vertices,), "the vertices' UV tiles")
+        try:
+            return UvTiles(layout, vertex_tile)
+        except StudioError as exc:
+            self.fail(f"{member}: {exc.problem}")
 
     def textures(self, doc: dict[str, Any]) -> FaceTextures:
         diffuse, neutral, first = (self.image(f"textures/{key}.png", f"the {key} texture", False)
