@@ -1,0 +1,364 @@
+"""Synthesised wrinkle maps, the parts around the furrows themselves: poses whose furrows cross
+go to separate maps ("<name> 2", …, as many as the shader has room for), the furrow fields'
+orientation bins and their blend of the phasor bank (180° wraps to 0° conjugated), the bank's
+Gabor filter (one frequency, oriented, its envelope widths), the map size a face gets, and the
+small helpers (flat placeholders, encoding normals). Hand-built fields and a 21 × 21 grid face
+at 32–64 texels keep every test fast."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from studio.core.animation.poses import KeyPose
+from studio.core.mesh.uv_tiles import SINGLE, TileLayout
+from studio.core.project.model import Project
+from studio.core.setup import wrinkle_synth as synth
+from studio.core.setup.wrinkle_synth import BINS, FurrowField, PhasorBank
+from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
+from tests.test_auto_setup import grid_mesh, squeezed
+
+pytestmark = pytest.mark.core
+
+STEP = 180.0 / BINS  # degrees between bank orientations: 5.625
+
+
+def _field(
+    index: list[int] | np.ndarray,
+    degrees: list[float] | np.ndarray,
+    amount: list[float] | np.ndarray | float = 1.0,
+) -> FurrowField:
+    """A furrow field on these texels, furrow waves at these orientations (degrees)."""
+    index = np.asarray(index, np.int64)
+    amount = np.broadcast_to(np.asarray(amount, np.float32), index.shape).copy()
+    return FurrowField.of(index, amount, np.radians(np.asarray(degrees, np.float64)))
+
+
+# --------------------------------------------------------------------------------------------
+# Small helpers
+# --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("size", "expected"),
+    [
+        (1, 2),
+        (2, 2),
+        (3, 4),
+        (5, 8),
+        (1000, 1024),
+        (1024, 1024),
+        (1025, 2048),
+    ],
+)
+def test_power_of_two_rounds_up(size: int, expected: int):
+    assert synth._power_of_two(size) == expected
+
+
+def _textures(size: int = 8) -> FaceTextures:
+    return FaceTextures(flat_normal_map(size), flat_normal_map(size), flat_normal_map(size))
+
+
+@pytest.mark.parametrize(
+    ("layout", "expected"),
+    [
+        (None, 1024),
+        (SINGLE, 1024),
+        (TileLayout((1001, 1002), ((0.0, 0.0, 0.5), (0.5, 0.0, 0.5))), 2048),
+        (TileLayout((1001, 1002), ((0.0, 0.0, 0.125), (0.5, 0.0, 0.0625))), 2048),
+    ],
+)
+def test_the_default_map_size_keeps_1024_texels_across_a_skin_tile(
+    layout: TileLayout | None, expected: int
+):
+    """1024 for a face on one tile; twice that for an atlas whose largest cell is half the
+    square; never more than 2048."""
+    project = SimpleNamespace(
+        textures=_textures(), uv_tiles=None if layout is None else SimpleNamespace(layout=layout)
+    )
+    assert synth._default_map_size(project) == expected
+
+
+def test_the_default_map_size_follows_large_maps_up_to_2048():
+    textures = _textures()
+    textures.diffuse = flat_normal_map(1500)
+    assert synth._default_map_size(SimpleNamespace(textures=textures, uv_tiles=None)) == 2048
+    textures.diffuse = flat_normal_map(2100)
+    assert synth._default_map_size(SimpleNamespace(textures=textures, uv_tiles=None)) == 2048
+
+
+def test_default_size_is_the_largest_map_side():
+    textures = _textures(2)
+    assert synth.default_size(textures, least=1) == 2
+    textures.set_wrinkle_map("big", flat_normal_map(40))
+    assert synth.default_size(textures, least=16) == 40
+    assert synth.default_size(textures) == 1024
+
+
+def test_a_one_texel_map_is_flat():
+    assert synth.is_flat(flat_normal_map(1))
+    image = flat_normal_map(3)
+    assert synth.is_flat(image)
+    image[0, 0] = (120, 128, 255)
+    assert not synth.is_flat(image)
+
+
+def test_encode_maps_minus_one_to_one_onto_the_full_range_and_clips():
+    normals = np.array([-1.5, -1.0, 0.0, 1.0, 1.5])
+    out = synth._encode(normals, np.uint8)
+    assert out.dtype == np.uint8
+    np.testing.assert_array_equal(out, [0, 0, 128, 255, 255])
+    np.testing.assert_array_equal(synth._encode(normals, np.uint16), [0, 0, 32768, 65535, 65535])
+
+
+def test_degrees_are_the_blended_orientation():
+    f = FurrowField(
+        np.arange(3),
+        np.ones(3, np.float32),
+        np.array([0, 16, 31]),
+        np.float32([0.0, 0.5, 0.25]),
+        np.zeros(BINS + 1, np.int64),
+    )
+    np.testing.assert_allclose(synth._degrees(f), [0.0, 16.5 * STEP, 31.25 * STEP])
+
+
+# --------------------------------------------------------------------------------------------
+# Orientation bins
+# --------------------------------------------------------------------------------------------
+
+
+def test_a_fields_texels_are_sliced_by_orientation_and_read_two_bins_each():
+    """Texels at 1°, 2° (bin 0), 30° (bin 5) and 179° (bin 31): each bin's texels are one
+    slice; the field reads its bins and the next of each (31's next is 0)."""
+    f = _field([10, 11, 12, 13], [30.0, 1.0, 179.0, 2.0])
+    assert f.span(0) == slice(0, 2) and f.span(5) == slice(2, 3) and f.span(31) == slice(3, 4)
+    assert f.span(1) == slice(2, 2)
+    np.testing.assert_array_equal(f.index[f.span(0)], [11, 13])
+    assert f.bins() == {0, 1, 5, 6, 31}
+    assert _field([1], [90.0]).bins() == {16, 17}
+    assert _field([], []).bins() == set()
+
+
+# --------------------------------------------------------------------------------------------
+# The phasor bank and the blend of its orientations
+# --------------------------------------------------------------------------------------------
+
+SIZE = 64
+SPACING = 8.0  # 1 / 8 = 8 frequency bins of 64
+
+
+def _gain(bank: PhasorBank, k: int) -> np.ndarray:
+    """The filter the bank applied for orientation k (its field's spectrum over the noise's)."""
+    return (np.fft.fft2(bank.field(k).reshape(SIZE, SIZE)) / bank.spectrum).real
+
+
+def test_the_bank_passes_one_frequency_along_each_orientation():
+    """Orientation 0 passes frequency 1/spacing along x (gain 1), one side only; one bin off
+    across the furrows keeps exp(−2π²(0.8·8/64)²), one bin along exp(−2π²(1.6·8/64)²);
+    orientation 16 (90°) the same along y."""
+    bank = PhasorBank(SIZE, SPACING, 7)
+    g = _gain(bank, 0)
+    assert g[0, 8] == pytest.approx(1.0, abs=1e-3)
+    assert abs(g[0, -8]) < 1e-3
+    assert g[0, 9] == pytest.approx(np.exp(-2 * np.pi**2 * 0.1**2), abs=1e-3)
+    assert g[1, 8] == pytest.approx(np.exp(-2 * np.pi**2 * 0.2**2), abs=1e-3)
+    g = _gain(bank, 16)
+    assert g[8, 0] == pytest.approx(1.0, abs=1e-3)
+    assert abs(g[-8, 0]) < 1e-3 and abs(g[0, 8]) < 1e-3
+    assert g[8, 1] == pytest.approx(np.exp(-2 * np.pi**2 * 0.2**2), abs=1e-3)
+
+
+def test_a_diagonal_orientation_is_centred_on_its_diagonal():
+    """Orientation 8 (45°): at frequency (6, 6)/64 the offset is all across the furrows."""
+    g = _gain(PhasorBank(SIZE, SPACING, 7), 8)
+    across = 6 * np.sqrt(2) / 64 - 1 / 8
+    assert g[6, 6] == pytest.approx(np.exp(-2 * np.pi**2 * (6.4 * across) ** 2), abs=1e-3)
+    along = 2 * np.sqrt(2) / 64  # (7, 5) is two bins along the furrows from (6, 6)… and across
+    across = 12 / (64 * np.sqrt(2)) - 1 / 8
+    assert g[5, 7] == pytest.approx(
+        np.exp(-2 * np.pi**2 * ((6.4 * across) ** 2 + (12.8 * along / 2) ** 2)), abs=1e-3
+    )
+
+
+def test_each_texel_blends_its_two_nearest_orientations():
+    """Texel 0 at bin 5 exactly, texel 1 at 30 % of the way from bin 5 to 6, texel 2 at 40 %
+    past the last bin (toward 180°, the first bin's conjugate): the depth is amount ×
+    valley(phase of the blend)."""
+    angles = np.array([5 * STEP, 5.3 * STEP, 31.4 * STEP])
+    f = FurrowField.of(np.array([0, 1, 2]), np.float32([1.0, 0.5, 0.8]), np.radians(angles))
+    bank = PhasorBank(32, 6.0, 99)
+    z = {k: bank.field(k)[:3] for k in (0, 5, 6, 31)}
+    blends = [z[5][0], 0.7 * z[5][1] + 0.3 * z[6][1], 0.6 * z[31][2] + 0.4 * np.conj(z[0][2])]
+    expected = np.float32([1.0, 0.5, 0.8]) * synth.valley(np.angle(np.array(blends)))
+    calls: list[tuple[int, int]] = []
+    depth = synth.furrow_depths([f], 32, 6.0, 99, lambda d, t: calls.append((d, t)) or True)
+    assert depth.shape == (32, 32)
+    np.testing.assert_allclose(depth.ravel()[:3], expected, rtol=1e-4, atol=1e-5)
+    assert not depth.ravel()[3:].any()
+    # bins read: 5, 6, 31, 0 → four steps, counted from 1 (no total given)
+    assert calls == [(1, 0), (2, 0), (3, 0), (4, 0)]
+
+
+def test_groups_get_one_depth_image_each_from_one_pass():
+    a, b = _field([0, 1], [10.0, 10.0]), _field([1, 2], [100.0, 100.0])
+    alone = [synth.furrow_depths([f], 32, 6.0, 5) for f in (a, b)]
+    grouped = synth.furrow_depths([a, b], 32, 6.0, 5, groups=[[1], [0]])
+    assert len(grouped) == 2
+    np.testing.assert_array_equal(grouped[0], alone[1])
+    np.testing.assert_array_equal(grouped[1], alone[0])
+    both = synth.furrow_depths([a, b], 32, 6.0, 5)
+    np.testing.assert_array_equal(both, np.maximum(*alone))
+
+
+# --------------------------------------------------------------------------------------------
+# Which poses share a map
+# --------------------------------------------------------------------------------------------
+
+TEXELS = np.arange(100)
+
+
+def test_furrows_more_than_30_degrees_apart_cross():
+    """Same texels at 0° and 90° cross; at 0° and 20°, or 10° and 170° (20° apart across the
+    wrap), they do not; 100° and 120° do not either."""
+
+    def groups(*angles: float) -> list[list[int]]:
+        return synth.crossing_groups([_field(TEXELS, [a] * 100) for a in angles], 4, 16)
+
+    assert groups(0.0, 90.0) == [[0], [1]]
+    assert groups(0.0, 20.0) == [[0, 1]]
+    assert groups(10.0, 170.0) == [[0, 1]]
+    assert groups(100.0, 120.0) == [[0, 1]]
+    assert groups(0.0, 150.5) == [[0, 1]]  # 29.5° apart across the wrap
+    assert groups(0.0, 149.0) == [[0], [1]]  # 31°
+
+
+def test_a_pose_without_furrows_is_left_out_and_the_rest_still_grouped():
+    empty = _field([], [])
+    fields = [empty, _field(TEXELS, [0.0] * 100), empty, _field(TEXELS, [90.0] * 100)]
+    assert synth.crossing_groups(fields, 4, 16) == [[1], [3]]
+    assert synth.crossing_groups([empty], 4, 16) == [[]]
+
+
+def test_crossing_on_up_to_five_percent_of_the_strong_texels_is_allowed():
+    """20 strong texels: crossing on one (5 %) shares the map, on two does not."""
+    base = _field(np.arange(20), [0.0] * 20)
+    for crossing, expected in ((1, [[0, 1]]), (2, [[0], [1]]), (5, [[0], [1]])):
+        other = _field(np.arange(20), [90.0] * crossing + [0.0] * (20 - crossing))
+        assert synth.crossing_groups([base, other], 4, 16) == expected
+    # 100 strong texels allow 5 crossings
+    other = _field(TEXELS, [90.0] * 5 + [0.0] * 95)
+    assert synth.crossing_groups([_field(TEXELS, [0.0] * 100), other], 4, 16) == [[0, 1]]
+
+
+def test_only_texels_stronger_than_a_quarter_count():
+    """Texels at exactly the strong share (0.25) neither clash nor count toward the 5 %."""
+    weak_map = _field(TEXELS, [0.0] * 100, 0.25)
+    assert synth.crossing_groups([weak_map, _field(TEXELS, [90.0] * 100)], 4, 16) == [[0, 1]]
+    weak_pose = _field(TEXELS, [90.0] * 100, 0.25)
+    assert synth.crossing_groups([_field(TEXELS, [0.0] * 100), weak_pose], 4, 16) == [[0, 1]]
+    # 40 strong texels (20 at exactly 0.25 do not count): 3 crossings are over 5 % of 40
+    amounts = [1.0] * 40 + [0.25] * 60
+    other = _field(TEXELS, [90.0] * 3 + [0.0] * 97, amounts)
+    assert synth.crossing_groups([_field(TEXELS, [0.0] * 100), other], 4, 16) == [[0], [1]]
+
+
+def test_a_map_keeps_the_strongest_orientation_of_its_poses():
+    """0° at 0.5, then 20° at 0.5 (not stronger: the map still says 0°), then 45° crosses 0°."""
+    fields = [
+        _field(TEXELS, [0.0] * 100, 0.5),
+        _field(TEXELS, [20.0] * 100, 0.5),
+        _field(TEXELS, [45.0] * 100, 1.0),
+    ]
+    assert synth.crossing_groups(fields, 4, 16) == [[0, 1], [2]]
+    # a stronger 20° takes over, and 45° is then within 30° of the map
+    fields[1] = _field(TEXELS, [20.0] * 100, 0.8)
+    assert synth.crossing_groups(fields, 4, 16) == [[0, 1, 2]]
+
+
+def test_past_the_last_map_a_pose_joins_the_one_it_crosses_least():
+    """Two maps (0° and 90°); a third pose at 45° on half its texels and 70° on the rest
+    crosses the 0° map everywhere and the 90° map on half: it joins the 90° map."""
+    fields = [
+        _field(TEXELS, [0.0] * 100),
+        _field(TEXELS, [90.0] * 100),
+        _field(TEXELS, [45.0] * 50 + [70.0] * 50),
+    ]
+    assert synth.crossing_groups(fields, 2, 16) == [[0], [1, 2]]
+    assert synth.crossing_groups(fields, 3, 16) == [[0], [1], [2]]
+
+
+# --------------------------------------------------------------------------------------------
+# Filling a flat placeholder with one map per group of poses
+# --------------------------------------------------------------------------------------------
+
+OPTIONS = synth.SynthOptions(size=32, spacing=4.0, depth=1.0)
+
+
+def _crossing_project(*authored: str) -> Project:
+    """The grid face with its left half squeezed along x ("squeeze", furrows along y) and
+    along y ("along_y", crossing them), a flat "wrinkles" placeholder, these authored maps,
+    and its top row of vertices not face."""
+    mesh = grid_mesh()
+    along_y = mesh.rest.copy()
+    along_y[:, 1] = np.where(mesh.rest[:, 0] < 0.0, mesh.rest[:, 1] * 0.9, mesh.rest[:, 1])
+    maps = {"wrinkles": flat_normal_map(4)}
+    for name in authored:
+        image = flat_normal_map(4)
+        image[1, 1] = (100, 140, 250)
+        maps[name] = image
+    textures = FaceTextures(flat_normal_map(8), flat_normal_map(32), wrinkle_maps=maps)
+    not_face = mesh.rest[:, 1] > 0.9
+    return Project(
+        "grid",
+        mesh,
+        [KeyPose("squeeze", squeezed(mesh.rest)), KeyPose("along_y", along_y)],
+        textures,
+        not_face=not_face,
+    )
+
+
+def test_crossing_poses_fill_the_placeholder_and_a_second_map():
+    """Each map is what synthesising from its own poses gives (same seed, same skin); the
+    second is named after the first, and progress counts every step against one total."""
+    project = _crossing_project()
+    calls: list[tuple[int, int]] = []
+    made = synth.fill_placeholder(project, OPTIONS, lambda d, t: calls.append((d, t)) or True)
+    assert made == {"wrinkles": ["squeeze"], "wrinkles 2": ["along_y"]}
+    maps = project.textures.wrinkle_maps
+    assert list(maps) == ["wrinkles", "wrinkles 2"]
+    for name, poses in made.items():
+        alone = synth.synthesise_wrinkle_map(project, poses, OPTIONS)
+        np.testing.assert_array_equal(maps[name], alone.normal)
+    total = 2 + BINS
+    assert calls[0] == (1, total) and calls[1] == (2, total)
+    assert {t for _, t in calls} == {total} and len(calls) > 3
+    assert [d for d, _ in calls] == list(range(1, len(calls) + 1))
+
+
+def test_a_second_map_gets_a_name_not_taken():
+    project = _crossing_project("wrinkles 2")
+    made = synth.fill_placeholder(project, OPTIONS)
+    assert made == {"wrinkles": ["squeeze"], "wrinkles 2 2": ["along_y"]}
+
+
+def test_with_no_room_for_another_map_crossing_poses_share_the_placeholder():
+    """Four maps already (the shader's most): both poses go into the placeholder."""
+    project = _crossing_project("a", "b", "c")
+    made = synth.fill_placeholder(project, OPTIONS)
+    assert made == {"wrinkles": ["squeeze", "along_y"]}
+    assert len(project.textures.wrinkle_maps) == 4
+
+
+def test_with_room_for_one_more_map_the_crossing_pose_gets_it():
+    project = _crossing_project("a", "b")
+    made = synth.fill_placeholder(project, OPTIONS)
+    assert made == {"wrinkles": ["squeeze"], "wrinkles 2": ["along_y"]}
+
+
+def test_stopping_during_the_furrows_stops_the_fill():
+    project = _crossing_project()
+    before = project.textures.wrinkle_maps["wrinkles"].copy()
+    assert synth.fill_placeholder(project, OPTIONS, lambda d, t: d < 4) is None
+    np.testing.assert_array_equal(project.textures.wrinkle_maps["wrinkles"], before)
