@@ -24,7 +24,8 @@
 #            of their measured time (default 2; tests/conftest.py): a mutant only slower tests
 #            would catch counts as surviving, so the score is never flattered
 # At the end it prints the score per module and overall (killed + timed out over all tested)
-# and writes the survivors to mutants/survivors.txt; `$VENV/bin/mutmut show NAME` shows one.
+# and lists the survivors, each with its changed line, in docs/mutation-survivors.txt (committed);
+# `$VENV/bin/mutmut show NAME` shows one whole.
 # Run it on a quiet machine: a timed-out mutant counts as killed (mutmut's rule; the timeout
 # is fifteen times the tests' own time, so a busy machine rarely fakes one). The property-based
 # fuzz tests run 25 examples per mutant (WRINKLE_FUZZ_EXAMPLES) instead of the suite's 250.

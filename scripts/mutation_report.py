@@ -37,7 +37,7 @@ SAVED_FIELDS = ("exit_code_by_key", "hash_by_function_name")
 
 
 def main(args: list[str]) -> None:
-    """Print the table and write mutants/survivors.txt, or do what the one option says."""
+    """Print the table and write SURVIVORS, or do what the one option says."""
     if args[:1] == ["--save"] and len(args) == 2:
         save(Path(args[1]))
     elif args[:1] == ["--restore"] and len(args) == 2:
