@@ -40,6 +40,7 @@ from studio.core.files.safe_io import (
     os_reason,
     require_regular,
 )
+from tests.test_png_filters import filter_rows
 
 pytestmark = pytest.mark.core
 
@@ -415,28 +416,6 @@ def test_write_tiff_stores_whole_numbers_of_any_integer_type_as_8_bit(tmp_path: 
 # --- the Pillow row decoder for wide pixels ---------------------------------------------------
 
 
-def _paeth(a: int, b: int, c: int) -> int:
-    p = a + b - c
-    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-    if pa <= pb and pa <= pc:
-        return a
-    return b if pb <= pc else c
-
-
-def _filtered(raw: np.ndarray, kinds: list[int], bpp: int) -> np.ndarray:
-    """Rows filtered after the PNG specification, byte by byte."""
-    h, stride = raw.shape
-    out = np.zeros((h, stride), np.uint8)
-    for y in range(h):
-        for i in range(stride):
-            a = int(raw[y, i - bpp]) if i >= bpp else 0
-            b = int(raw[y - 1, i]) if y > 0 else 0
-            c = int(raw[y - 1, i - bpp]) if y > 0 and i >= bpp else 0
-            pred = (0, a, b, (a + b) // 2, _paeth(a, b, c))[kinds[y]]
-            out[y, i] = (int(raw[y, i]) - pred) % 256
-    return out
-
-
 @pytest.mark.parametrize("bpp", [5, 9, 12])
 def test_pixels_wider_than_eight_bytes_are_unfiltered_group_by_group(bpp: int) -> None:
     """Three groups of bytes (4 + 4 + 1 for 9 bytes, 4 + 4 + 4 for 12) each land in their own
@@ -444,7 +423,7 @@ def test_pixels_wider_than_eight_bytes_are_unfiltered_group_by_group(bpp: int) -
     rng = np.random.default_rng(bpp)
     raw = rng.integers(0, 256, (5, 2 * bpp), dtype=np.uint8)
     kinds = [0, 1, 2, 3, 4]
-    filtered = _filtered(raw, kinds, bpp)
+    filtered = filter_rows(raw, kinds, bpp)
     assert not np.array_equal(filtered, raw)
     out = unfilter_with_pillow(np.array(kinds, np.uint8), filtered, bpp)
     assert out.dtype == np.uint8

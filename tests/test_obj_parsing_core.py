@@ -273,36 +273,32 @@ def test_a_pose_that_cannot_be_parsed_names_the_pose(tmp_path: Path) -> None:
     )
 
 
-def test_a_pose_whose_polygons_are_cut_differently_names_its_first_face(tmp_path: Path) -> None:
-    """Neutral: a triangle then a quad; pose: a quad then a triangle over the same 5 ``v``.
-    The first face already differs in size, and that is the face named."""
-    neutral = load_mesh(_obj(tmp_path, FIVE + "vt 0 0\nf 1/1 2/1 3/1\nf 3/1 2/1 5/1 4/1\n"))
-    pose = _obj(tmp_path, FIVE + "f 1 2 3 4\nf 3 2 5\n", "pose.obj")
-    _refused(
-        pose,
-        lambda: load_pose(pose, neutral),
-        "face 1 (line 6) uses vertices (1, 2, 3, 4), the neutral mesh's face 1 uses (1, 2, 3)",
-    )
-
-
-def test_a_pose_with_more_corners_in_its_first_face_names_it(tmp_path: Path) -> None:
-    neutral = load_mesh(_obj(tmp_path, SQUARE + "vt 0 0\nf 1/1 2/1 3/1\nf 1/1 3/1 4/1\n"))
-    pose = _obj(tmp_path, SQUARE + "f 1 2 3 4\nf 1 3 4\n", "pose.obj")
-    _refused(
-        pose,
-        lambda: load_pose(pose, neutral),
-        "face 1 (line 5) uses vertices (1, 2, 3, 4), the neutral mesh's face 1 uses (1, 2, 3)",
-    )
-
-
-def test_a_pose_whose_later_face_differs_names_that_face(tmp_path: Path) -> None:
-    neutral = load_mesh(_obj(tmp_path, FIVE + "vt 0 0\nf 1/1 2/1 3/1\nf 2/1 5/1 3/1\n"))
-    pose = _obj(tmp_path, FIVE + "f 1 2 3\nf 2 5 4\n", "pose.obj")
-    _refused(
-        pose,
-        lambda: load_pose(pose, neutral),
-        "face 2 (line 7) uses vertices (2, 5, 4), the neutral mesh's face 2 uses (2, 5, 3)",
-    )
+@pytest.mark.parametrize(
+    ("neutral_text", "pose_text", "problem"),
+    [
+        (  # a triangle then a quad, cut as a quad then a triangle: the first face differs
+            FIVE + "vt 0 0\nf 1/1 2/1 3/1\nf 3/1 2/1 5/1 4/1\n",
+            FIVE + "f 1 2 3 4\nf 3 2 5\n",
+            "face 1 (line 6) uses vertices (1, 2, 3, 4), the neutral mesh's face 1 uses (1, 2, 3)",
+        ),
+        (  # more corners in the first face
+            SQUARE + "vt 0 0\nf 1/1 2/1 3/1\nf 1/1 3/1 4/1\n",
+            SQUARE + "f 1 2 3 4\nf 1 3 4\n",
+            "face 1 (line 5) uses vertices (1, 2, 3, 4), the neutral mesh's face 1 uses (1, 2, 3)",
+        ),
+        (  # only a later face differs
+            FIVE + "vt 0 0\nf 1/1 2/1 3/1\nf 2/1 5/1 3/1\n",
+            FIVE + "f 1 2 3\nf 2 5 4\n",
+            "face 2 (line 7) uses vertices (2, 5, 4), the neutral mesh's face 2 uses (2, 5, 3)",
+        ),
+    ],
+)
+def test_a_pose_whose_polygons_differ_names_the_first_face_that_does(
+    tmp_path: Path, neutral_text: str, pose_text: str, problem: str
+) -> None:
+    neutral = load_mesh(_obj(tmp_path, neutral_text))
+    pose = _obj(tmp_path, pose_text, "pose.obj")
+    _refused(pose, lambda: load_pose(pose, neutral), problem)
 
 
 def test_a_pose_against_a_mesh_not_read_from_obj_compares_triangles(tmp_path: Path) -> None:
