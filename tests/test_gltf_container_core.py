@@ -80,6 +80,23 @@ def load(tmp_path: Path, doc: object, name: str = "face.gltf") -> tuple[_Gltf, P
     return _Gltf(path), path
 
 
+def packed(tmp_path, accessors: list[tuple[dict, np.ndarray]]) -> _Gltf:
+    """A file holding each array in its own 4-byte-aligned view, read by an accessor with the
+    given fields (bufferView is filled in)."""
+    blob, views, specs = b"", [], []
+    for k, (spec, array) in enumerate(accessors):
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
+        specs.append({"bufferView": k, **spec})
+        blob += array.tobytes() + b"\0" * (-array.nbytes % 4)
+    doc = {
+        "asset": ASSET,
+        "buffers": [{"byteLength": len(blob), "uri": data_uri(blob)}],
+        "bufferViews": views,
+        "accessors": specs,
+    }
+    return load(tmp_path, doc)[0]
+
+
 # --- decoding -------------------------------------------------------------------------------
 def test_every_component_type_decodes_to_the_hand_made_values(tmp_path):
     arrays = [
@@ -90,20 +107,10 @@ def test_every_component_type_decodes_to_the_hand_made_values(tmp_path):
         (5125, "SCALAR", np.array([[0], [4_000_000_000]], np.uint32)),
         (5126, "MAT2", np.array([[0.25, -1.5, 3.0, 1e-3]], np.float32)),
     ]
-    blob, views, accessors = b"", [], []
-    for k, (component, kind, array) in enumerate(arrays):
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
-        accessors.append(
-            {"bufferView": k, "componentType": component, "count": len(array), "type": kind}
-        )
-        blob += array.tobytes() + b"\0" * (-array.nbytes % 4)
-    doc = {
-        "asset": ASSET,
-        "buffers": [{"byteLength": len(blob), "uri": data_uri(blob)}],
-        "bufferViews": views,
-        "accessors": accessors,
-    }
-    g, _ = load(tmp_path, doc)
+    g = packed(
+        tmp_path,
+        [({"componentType": c, "count": len(a), "type": kind}, a) for c, kind, a in arrays],
+    )
     for k, (_, _, array) in enumerate(arrays):
         values = g.accessor(k)
         assert values.dtype == np.float64
@@ -165,26 +172,8 @@ def test_normalized_integers_scale_to_unit_range_and_floats_stay(tmp_path):
         (5123, np.array([0, 13107, 65535], np.uint16), [0.0, 0.2, 1.0]),
         (5126, np.array([1.5, -2.0, 300.0], np.float32), [1.5, -2.0, 300.0]),
     ]
-    blob, views, accessors = b"", [], []
-    for k, (component, array, _) in enumerate(arrays):
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": array.nbytes})
-        accessors.append(
-            {
-                "bufferView": k,
-                "componentType": component,
-                "count": 3,
-                "type": "SCALAR",
-                "normalized": True,
-            }
-        )
-        blob += array.tobytes() + b"\0" * (-array.nbytes % 4)
-    doc = {
-        "asset": ASSET,
-        "buffers": [{"byteLength": len(blob), "uri": data_uri(blob)}],
-        "bufferViews": views,
-        "accessors": accessors,
-    }
-    g, _ = load(tmp_path, doc)
+    fields = {"count": 3, "type": "SCALAR", "normalized": True}
+    g = packed(tmp_path, [({"componentType": c, **fields}, a) for c, a, _ in arrays])
     for k, (_, _, expected) in enumerate(arrays):
         np.testing.assert_allclose(g.accessor(k)[:, 0], expected, rtol=1e-12)
 
