@@ -50,6 +50,27 @@ class Project:
             return np.ones(self.mesh.n_welded, np.float32)
         return (~self.not_face).astype(np.float32)
 
+    def skin_triangles(self) -> np.ndarray:
+        """(F,) bool: triangles whose three corners are skin."""
+        return (self.skin_weights() > 0)[self.mesh.welded_triangles].all(axis=1)
+
+    def skin_mesh(self) -> FaceMesh:
+        """The mesh with only its skin triangles (same vertices), for everything written in UV
+        space: masks, strain, furrows, painting through the mesh, baking. Eyes, lashes and
+        teeth often share the skin's UV tile, and where UV triangles overlap the one drawn last
+        owns the texel — an eye would erase the brow's compression. The whole mesh when
+        nothing is marked not-face (or nothing would be left)."""
+        flags = None if self.not_face is None else self.not_face.tobytes()
+        cached = self.__dict__.get("_skin_mesh")
+        if cached is not None and cached[0] is self.mesh and cached[1] == flags:
+            return cached[2]  # the same object each time: tools cache by the mesh they get
+        keep = self.skin_triangles()
+        mesh = self.mesh
+        if not keep.all() and keep.any():
+            mesh = FaceMesh(mesh.rest, mesh.triangles[keep], mesh.uvs, mesh.weld, mesh.source)
+        self.__dict__["_skin_mesh"] = (self.mesh, flags, mesh)
+        return mesh
+
     def skin_tiles(self) -> list[int]:
         """The UDIM tiles that hold skin, in order; none for a face on a single tile."""
         if self.uv_tiles is None:

@@ -180,7 +180,7 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     skin = project.skin_weights()
     strain = SkinStrain(project.mesh, skin)
     size = face_size(project)
-    raster = UvRaster(project.mesh, min(max(shape), SETUP_WORK_SIZE))
+    raster = UvRaster(project.skin_mesh(), min(max(shape), SETUP_WORK_SIZE))
     for done, name in enumerate(names, start=1):
         if progress is not None and not progress(done, len(names)):
             return None
@@ -341,7 +341,7 @@ def strain_mask(project: Project, pose_weights: Mapping[str, float], *,
     Raises StudioError in the neutral pose or where the pose compresses no skin.
     """
     active = _need_active(project, pose_weights)
-    mask = mask_from_weights(project.mesh, strain_weights(project, active, full_at),
+    mask = mask_from_weights(project.skin_mesh(), strain_weights(project, active, full_at),
                              setup_mask_size(project, mask_size), softness)
     if not mask.any():
         raise StudioError("the automatic mode shows no wrinkles at these pose weights "

@@ -423,7 +423,8 @@ def synthesise_wrinkle_map(project: Project, poses: Sequence[str] | None = None,
     if not names:
         raise StudioError("a wrinkled map is synthesised from key poses, and none was chosen")
     targets = [project.pose(name).positions for name in names]
-    height = synthesise_height(project.mesh, targets, options, project.skin_weights(), progress)
+    height = synthesise_height(project.skin_mesh(), targets, options, project.skin_weights(),
+                               progress)
     if height is None:
         return None
     return SynthResult(height, height_to_map(height, project.textures.normal_neutral,
@@ -467,7 +468,7 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
     names = [p.name for p in project.poses]
     targets = [p.positions for p in project.poses]
     total = len(targets) + BINS
-    fields = furrow_fields(project.mesh, targets, options, project.skin_weights(), progress,
+    fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress,
                            total)
     if fields is None:
         return None
