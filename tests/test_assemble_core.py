@@ -190,8 +190,9 @@ def foreign_glb(head: Path) -> Path:
     return path
 
 
-def test_only_obj_files_have_parts_to_choose(foreign_glb: Path) -> None:
-    message = f"{foreign_glb}: only OBJ files have groups or materials to choose from"
+def test_the_studios_own_glb_has_no_parts_to_choose(foreign_glb: Path) -> None:
+    message = (f"{foreign_glb}: this file was written by Wrinkle Studio: its face is one mesh, "
+               "with no parts to keep or mark")
     with pytest.raises(MeshError, match=f"^{re.escape(message)}$"):
         project_from_files(foreign_glb, keep=["skin"])
     with pytest.raises(MeshError, match=f"^{re.escape(message)}$"):

@@ -408,7 +408,7 @@ INVALID_COUNT = "accessor 0 has an invalid count or byteOffset"
 @pytest.mark.parametrize(
     ("change", "problem"),
     [
-        (acc(sparse={"count": 1}), "sparse accessors are not supported; re-export without them"),
+        (acc(sparse={"count": 1}), "accessor 0's sparse block is malformed (missing 'indices')"),
         (acc(componentType=5124), "accessor 0 has an unknown component type 5124 or type 'VEC3'"),
         (acc(type="VEC5"), "accessor 0 has an unknown component type 5126 or type 'VEC5'"),
         (acc(componentType=[5126]), "accessor 0 is malformed (unhashable type: 'list')"),

@@ -640,7 +640,7 @@ def test_a_cubic_spline_animation_keeps_its_values(tmp_path: Path) -> None:
 
 def test_only_the_weights_channel_of_the_mesh_s_node_counts(tmp_path: Path) -> None:
     d, _ = face(["smile", "frown"])
-    d.doc["nodes"] = [7, {"mesh": 5}, {"mesh": 0}]  # the mesh's node is node 2
+    d.doc["nodes"] = [{}, {"name": "other"}, {"mesh": 0}]  # the mesh's node is node 2
     other = animate(d, [0.0], [0.5, 0.5], "LINEAR", node=1)
     other["channels"].insert(0, {"sampler": 0})  # no target at all
     other["channels"].append({"sampler": 0, "target": {"node": 2, "path": "translation"}})

@@ -20,18 +20,22 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("new", help="make a project from your own meshes and maps")
     source = p.add_mutually_exclusive_group(required=True)
     source.add_argument("--mesh", help="neutral mesh (OBJ, PLY, glTF, …)")
-    source.add_argument("--gltf", help="glTF with morph targets: they become the key poses")
+    source.add_argument("--gltf", help="glTF with morph targets: they become the key poses; "
+                        "in a whole avatar the face is found (the meshes the targets move, "
+                        "eyes and teeth not face, the rest left out) and said")
     p.add_argument("--pose", action="append", type=parse_pose, default=[], metavar="NAME=FILE",
                    help="a key-pose mesh with the neutral mesh's topology (repeatable)")
     p.add_argument("--diffuse", help="diffuse (skin colour) map")
     p.add_argument("--normal", help="neutral normal map (default: flat)")
     p.add_argument("--wrinkle-normal", help="wrinkled normal map (default: flat)")
-    p.add_argument("--keep", action="extend", nargs="+", metavar="GROUP",
-                   help="keep only these OBJ objects, groups or materials (repeatable; the same "
-                        "parts are taken from every key pose)")
-    p.add_argument("--not-face", action="extend", nargs="+", default=[], metavar="GROUP",
-                   help="OBJ objects, groups or materials that are not skin (eyes, teeth): "
-                        "never wrinkled")
+    p.add_argument("--keep", action="extend", nargs="+", metavar="PART",
+                   help="keep only these OBJ objects, groups or materials, or glTF meshes, "
+                        "nodes or materials (repeatable; the same parts are taken from every "
+                        "key pose)")
+    p.add_argument("--not-face", action="extend", nargs="+", default=[], metavar="PART",
+                   help="OBJ objects, groups or materials, or glTF meshes, nodes or materials "
+                        "that are not skin (eyes, teeth): never wrinkled (a glTF's are "
+                        "suggested when none are named)")
     p.add_argument("--up", metavar="AXIS",
                    help="the head's up axis (x, y, z, -x, -y, -z); by default found from the "
                         "poses' motion or the mesh's extent, and said")
@@ -60,9 +64,10 @@ def run(args: argparse.Namespace) -> int:
     names = [name for name, _ in args.pose]
     if len(set(names)) != len(names):
         raise StudioError("two --pose options have the same name")
+    found: list[str] = []  # what was chosen in a glTF scene
     project = project_from_files(args.mesh or args.gltf, dict(args.pose), args.diffuse,
                                  args.normal, args.wrinkle_normal,
-                                 keep=args.keep, not_face=args.not_face)
+                                 keep=args.keep, not_face=args.not_face or None, report=found)
     if args.flip_green:
         project.textures.normal_neutral = flip_green(project.textures.normal_neutral)
         project.textures.normal_wrinkled = flip_green(project.textures.normal_wrinkled)
@@ -78,11 +83,13 @@ def run(args: argparse.Namespace) -> int:
     save_project(project, out)
     print(f"wrote {out}: {project.mesh.n_welded} vertices, key poses: "
           f"{', '.join(p.name for p in project.poses) or 'none'}")
+    for line in found:
+        print(line)
     print(f"assumed: {frame.how}")
     if project.uv_tiles is not None:
         print(f"UV tiles {', '.join(map(str, project.uv_tiles.layout.tiles))} packed into one "
               f"atlas (skin on {', '.join(map(str, project.skin_tiles()))})")
-    if project.not_face is not None:
+    if project.not_face is not None and args.not_face:
         print(f"not face ({', '.join(args.not_face)}): {int(project.not_face.sum())} vertices")
     for line in done:
         print(line)

@@ -2,14 +2,14 @@
 
 Shared by File ▸ New from Files and the command line. Missing normal maps default to flat ones
 (a face may come with no detail at rest, or no wrinkled map yet); a missing diffuse map to plain
-skin colour. An OBJ's objects, groups and materials can be kept in part (``keep``) and marked as
-not face (``not_face``: eyes, teeth — never wrinkled). UDIM-tiled UVs are packed into one atlas
-and texture sets composed into it (``uv_tiles``, ``texture_sets``).
+skin colour. An OBJ's objects, groups and materials, or a glTF's meshes, nodes and materials, can
+be kept in part (``keep``) and marked as not face (``not_face``: eyes, teeth — never wrinkled); a
+glTF's face is found and its not-face parts suggested when they are not named. UDIM-tiled UVs
+are packed into one atlas and texture sets composed into it (``uv_tiles``, ``texture_sets``).
 """
 
 from __future__ import annotations
 
-import re
 from collections.abc import Collection, Iterable, Mapping
 from pathlib import Path
 
@@ -19,6 +19,8 @@ from studio.core.animation.poses import NEUTRAL
 from studio.core.files.errors import MeshError
 from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices
 from studio.core.mesh.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
+from studio.core.project.face_parts import suggest_names
+from studio.core.project.gltf import load_gltf
 from studio.core.project.model import Project
 from studio.core.project.texture_sets import load_texture
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
@@ -26,29 +28,27 @@ from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, p
 FLAT_NORMAL = (128, 128, 255)
 
 
-# Part names that are usually not skin: eyeballs, teeth, tongue, lashes... ("eyelid" is skin).
-_NOT_SKIN = re.compile(
-    r"(^|[^a-z])(eyes?|eyeballs?|cornea|iris|pupils?|teeth|tooth|tongue|gums?|lash(es)?|"
-    r"eyelash(es)?|mouth_?bag|caruncle|tear_?line|occlusion)([^a-z]|$)", re.IGNORECASE)
-
-
 def suggest_not_face(names: Iterable[str]) -> list[str]:
     """The part names that look like eyes, teeth or tongue: a starting choice for the user."""
-    return [name for name in names if _NOT_SKIN.search(name.replace(" ", "_"))]
+    return suggest_names(names)
 
 
 def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
                        diffuse: str | Path | None = None, normal: str | Path | None = None,
                        wrinkled: str | Path | None = None, name: str | None = None, *,
                        keep: Collection[str] | None = None,
-                       not_face: Collection[str] = (), part_kind: str | None = None) -> Project:
-    """``keep``: the OBJ parts (objects, groups, materials) to load, None for all; ``not_face``:
-    parts whose vertices get no wrinkles (``Project.not_face``); ``part_kind``: "object",
-    "group" or "material" when the names are of that kind only (None: any)."""
+                       not_face: Collection[str] | None = None, part_kind: str | None = None,
+                       report: list[str] | None = None) -> Project:
+    """``keep``: the parts (OBJ objects, groups, materials; glTF meshes, nodes, materials) to
+    load, None for all of an OBJ or the face a glTF's morph targets show; ``not_face``: parts
+    whose vertices get no wrinkles (``Project.not_face``), None for none of an OBJ or the
+    suggestion for a glTF; ``part_kind``: "object", "group", "material" or "mesh" when the
+    names are of that kind only (None: any); ``report``: a line for each choice made for
+    the user (a glTF's face, its not-face parts, what was left out)."""
     if Path(mesh).suffix.lower() in (".glb", ".gltf"):
-        if keep is not None or not_face:
-            raise MeshError("only OBJ files have groups or materials to choose from", mesh)
-        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name)
+        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name,
+                          load_gltf(mesh, keep, not_face, part_kind, report))
+    not_face = not_face or ()
     face = load_mesh(mesh, keep, part_kind)
     flags = not_face_vertices(face, not_face, part_kind) if not_face else None
     if flags is not None and flags.all():
@@ -92,11 +92,8 @@ def _texture(path: str | Path, layout: TileLayout | None, fill: tuple[int, int, 
 
 def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,
                diffuse: str | Path | None, normal: str | Path | None,
-               wrinkled: str | Path | None, name: str | None) -> Project:
+               wrinkled: str | Path | None, name: str | None, project: Project) -> Project:
     """A glTF brings its morph targets as key poses and its textures; files given override."""
-    from studio.core.project.gltf import load_gltf
-
-    project = load_gltf(path)
     if project.uv_tiles is None:  # a glTF from elsewhere with UDIM coordinates
         project.mesh, project.uv_tiles = pack_mesh(project.mesh, None if project.not_face is None
                                                    else ~project.not_face)

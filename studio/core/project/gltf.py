@@ -19,26 +19,28 @@ imports back with nothing lost.
 
 from __future__ import annotations
 
-import base64
 import json
 import struct
+from collections.abc import Collection
 from pathlib import Path
 
 import numpy as np
 
 from studio.core.animation.poses import KeyPose
 from studio.core.animation.timeline import Timeline
-from studio.core.files.budgets import FILE_BYTES, MESH_VERTICES, POSES, check_json_depth
+from studio.core.files.budgets import POSES
 from studio.core.files.errors import MeshError
-from studio.core.files.images import decode_image
 from studio.core.files.png import encode_png
-from studio.core.files.safe_io import read_regular
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
 from studio.core.mesh.meshio import mesh_from_render_vertices
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
 from studio.core.project.gltf_animation import animation_spec, timeline_from_animation
+from studio.core.project.gltf_container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
+from studio.core.project.gltf_face import choose_face, merge_face, report_lines
+from studio.core.project.gltf_materials import _rgb, atlas_textures
+from studio.core.project.gltf_scene import scene_meshes
 from studio.core.project.model import Project
 from studio.core.project.view_settings import saved_view
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
@@ -47,215 +49,8 @@ from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_d
 from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
-MAGIC, JSON_CHUNK, BIN_CHUNK = b"glTF", 0x4E4F534A, 0x004E4942
-COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32,
-              5126: np.float32}
-WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
 EXTRAS_KEY = "wrinkleStudio"
-
-
-# --- reading ---------------------------------------------------------------------------------
-def _whole(value: object) -> bool:
-    """A JSON whole number of 0 or more (not a bool, float or string)."""
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
-
-
-def _list(g: _Gltf, obj: dict, key: str) -> list:
-    value = obj.get(key, [])
-    if not isinstance(value, list):
-        raise MeshError(f"'{key}' is not a JSON list", g.path)
-    return value
-
-
-def _item(g: _Gltf, key: str, index: object, items: list | None = None) -> dict:
-    """``doc[key][index]``, refusing an index that is not a whole number in range (Python
-    would read a negative one from the end) and an entry that is not a JSON object."""
-    items = _list(g, g.doc, key) if items is None else items
-    if not _whole(index) or index >= len(items):
-        raise MeshError(f"a reference to {key}[{index!r}], which does not exist (the file has "
-                        f"{len(items)})", g.path)
-    item = items[index]
-    if items is not g.buffers and not isinstance(item, dict):
-        raise MeshError(f"{key}[{index}] is not a JSON object", g.path)
-    return item
-
-
-class _Gltf:
-    """A parsed glTF document and its buffers, with typed accessors."""
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-        data = read_regular(path, FILE_BYTES.value, MeshError, "glTF file", FILE_BYTES.setting)
-        if data[:4] == MAGIC:
-            self.doc, binary = self._parse_glb(data)
-        else:
-            check_json_depth(data, "the glTF JSON", path, MeshError)
-            try:
-                self.doc = json.loads(data.decode("utf-8"))
-            except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-                raise MeshError(f"not a glTF file ({exc})", path) from None
-            binary = None
-        asset = self.doc.get("asset") if isinstance(self.doc, dict) else None
-        if not isinstance(asset, dict) or not str(asset.get("version", "")).startswith("2"):
-            raise MeshError("not a glTF 2.0 file (asset.version is not 2.x)", path)
-        self.buffers = [self._buffer(b, binary) for b in _list(self, self.doc, "buffers")]
-
-    def _parse_glb(self, data: bytes) -> tuple[dict, bytes | None]:
-        if len(data) < 20:
-            raise MeshError("the GLB file is truncated", self.path)
-        _, version, length = struct.unpack_from("<4sII", data)
-        if version != 2:
-            raise MeshError(f"the GLB header is damaged or not version 2 ({version})", self.path)
-        if length > len(data):
-            raise MeshError(f"the GLB file is truncated ({len(data)} of {length} bytes)",
-                            self.path)
-        doc, binary, offset = None, None, 12
-        while offset + 8 <= length:
-            size, kind = struct.unpack_from("<II", data, offset)
-            chunk = data[offset + 8: offset + 8 + size]
-            if len(chunk) != size:
-                raise MeshError("a GLB chunk is truncated", self.path)
-            if kind == JSON_CHUNK and doc is None:
-                check_json_depth(chunk, "the GLB's JSON", self.path, MeshError)
-                try:
-                    doc = json.loads(chunk.decode("utf-8"))
-                except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-                    raise MeshError(f"the GLB's JSON is damaged ({exc})", self.path) from None
-            elif kind == BIN_CHUNK and binary is None:
-                binary = chunk
-            offset += 8 + size
-        if doc is None:
-            raise MeshError("the GLB file has no JSON chunk", self.path)
-        return doc, binary
-
-    def _buffer(self, spec: dict, binary: bytes | None) -> bytes:
-        data = self._buffer_data(spec, binary)
-        length = spec.get("byteLength", len(data)) if isinstance(spec, dict) else 0
-        if not _whole(length) or length > len(data):
-            raise MeshError(f"a buffer declares {length!r} bytes but holds {len(data)}",
-                            self.path)
-        return data
-
-    def _buffer_data(self, spec: dict, binary: bytes | None) -> bytes:
-        if not isinstance(spec, dict):
-            raise MeshError("a buffer is not a JSON object", self.path)
-        uri = spec.get("uri")
-        if uri is None:
-            if binary is None:
-                raise MeshError("a buffer has no data", self.path)
-            return binary
-        if not isinstance(uri, str):
-            raise MeshError(f"a buffer's uri is not text: {uri!r}", self.path)
-        if uri.startswith("data:"):
-            try:
-                return base64.b64decode(uri.split(",", 1)[1])
-            except (IndexError, ValueError) as exc:
-                raise MeshError(f"a buffer's data URI is damaged ({exc})", self.path) from None
-        target = (self.path.parent / uri).resolve()
-        if self.path.parent.resolve() not in target.parents:
-            raise MeshError(f"a buffer refers outside the file's folder: '{uri}'", self.path)
-        return read_regular(target, FILE_BYTES.value, MeshError, f"buffer '{uri}' of the glTF",
-                            FILE_BYTES.setting)
-
-    def _view(self, index: int) -> tuple[memoryview, int, int | None]:
-        view = _item(self, "bufferViews", index)
-        buffer = _item(self, "buffers", view.get("buffer"), self.buffers)
-        start, length = view.get("byteOffset", 0), view.get("byteLength")
-        stride = view.get("byteStride")
-        if not (_whole(start) and _whole(length)) or (
-                stride is not None and not (_whole(stride) and 4 <= stride <= 252)):
-            raise MeshError(f"buffer view {index} has an invalid byteOffset, byteLength or "
-                            "byteStride", self.path)
-        end = start + length
-        if end > len(buffer):
-            raise MeshError(f"buffer view {index} reaches past its buffer's end", self.path)
-        return memoryview(buffer)[:end], start, stride  # no copy of the buffer
-
-    def accessor(self, index: int) -> Array:
-        try:
-            acc = _item(self, "accessors", index)
-            if "sparse" in acc:
-                raise MeshError("sparse accessors are not supported; re-export without them",
-                                self.path)
-            if acc.get("componentType") not in COMPONENTS or acc.get("type") not in WIDTH:
-                raise MeshError(f"accessor {index} has an unknown component type "
-                                f"{acc.get('componentType')!r} or type {acc.get('type')!r}",
-                                self.path)
-            dtype = np.dtype(COMPONENTS[acc["componentType"]])
-            width, count = WIDTH[acc["type"]], acc.get("count")
-            offset = acc.get("byteOffset", 0)
-            if not (_whole(count) and count >= 1 and _whole(offset)):
-                raise MeshError(f"accessor {index} has an invalid count or byteOffset",
-                                self.path)
-            MESH_VERTICES.check(count // 3 if acc["type"] == "SCALAR" else count,
-                                f"accessor {index}", self.path, MeshError)
-            if "bufferView" not in acc:
-                raise MeshError(f"accessor {index} has no bufferView (no data)", self.path)
-            buffer, start, stride = self._view(acc["bufferView"])
-            start += offset
-            item = dtype.itemsize * width
-            stride = stride or item
-            if stride < item or start % dtype.itemsize or stride % dtype.itemsize:
-                raise MeshError(f"accessor {index}'s elements overlap or are misaligned",
-                                self.path)
-            if start + stride * (count - 1) + item > len(buffer):
-                raise MeshError(f"accessor {index} reaches past its buffer view's end",
-                                self.path)
-            raw = np.ndarray((count, width), dtype, buffer, start, (stride, dtype.itemsize))
-        except (KeyError, IndexError, TypeError, ValueError) as exc:
-            raise MeshError(f"accessor {index} is malformed ({exc})", self.path) from None
-        values = raw.astype(np.float64)
-        if acc.get("normalized") and dtype.kind in "iu":
-            values /= float(np.iinfo(dtype).max)
-            np.maximum(values, -1.0, out=values)  # glTF: the most negative integer is −1 too
-        if not np.isfinite(values).all():
-            raise MeshError(f"accessor {index} holds non-finite numbers (NaN or infinity)",
-                            self.path)
-        return values
-
-    def typed(self, index: int, kinds: tuple[str, ...], what: str,
-              integer: bool = False) -> Array:
-        """An accessor that must have one of ``kinds`` (and integer components): a position
-        stored as a SCALAR, or indices as floats, is refused naming ``what``."""
-        acc = _item(self, "accessors", index)
-        if acc.get("type") not in kinds or (integer and acc.get("componentType") not in (
-                5121, 5123, 5125)):
-            raise MeshError(f"{what} (accessor {index}) is {acc.get('type')!r} of component "
-                            f"type {acc.get('componentType')!r}, expected "
-                            f"{' or '.join(kinds)}{' of unsigned integers' if integer else ''}",
-                            self.path)
-        return self.accessor(index)
-
-    def image(self, index: int) -> Array:
-        spec = _item(self, "images", index)  # a negative index would read from the end
-        try:
-            if "bufferView" in spec:
-                buffer, start, _ = self._view(spec["bufferView"])
-                length = _item(self, "bufferViews", spec["bufferView"])["byteLength"]
-                data = bytes(buffer[start:start + length])
-            else:
-                data = self._buffer({"uri": spec["uri"]}, None)
-        except (KeyError, IndexError, TypeError) as exc:
-            raise MeshError(f"image {index} is malformed ({exc})", self.path) from None
-        return decode_image(data, f"{self.path} (image {index})")
-
-    def texture_image(self, info: dict | None) -> Array | None:
-        if not info:
-            return None
-        try:
-            source = _item(self, "textures", info["index"])["source"]
-        except (MeshError, KeyError, TypeError):
-            raise MeshError("a material refers to a texture that does not exist",
-                            self.path) from None
-        return self.image(source)
-
-
-def _rgb(image: Array | None, fallback: Array) -> Array:
-    if image is None:
-        return fallback
-    if image.ndim == 2:
-        image = np.repeat(image[:, :, None], 3, axis=2)
-    return np.ascontiguousarray(image[:, :, :3])
+__all__ = ["BIN_CHUNK", "JSON_CHUNK", "_Gltf", "load_gltf", "load_weight_animation", "save_gltf"]
 
 
 def _first_occurrence(weld: Array, n_welded: int) -> Array:
@@ -264,19 +59,66 @@ def _first_occurrence(weld: Array, n_welded: int) -> Array:
     return first
 
 
-def load_gltf(path: str | Path) -> Project:
-    """A project from a glTF 2.0 file (.glb or .gltf)."""
+def load_gltf(path: str | Path, keep: Collection[str] | None = None,
+              not_face: Collection[str] | None = None, kind: str | None = None,
+              report: list[str] | None = None) -> Project:
+    """A project from a glTF 2.0 file (.glb or .gltf).
+
+    A file the studio wrote comes back as it was. Any other is a scene whose face is found
+    (core/project/gltf_face.py): ``keep`` and ``not_face`` name meshes, nodes or materials
+    (``kind`` "mesh" or "material": that kind only) to replace the choice found or suggested;
+    what was chosen and why is appended to ``report``, a line each.
+    """
     path = Path(path)
     try:
-        return _load_gltf(path)
+        g = _Gltf(path)
+        if _written_here(g):
+            if keep is not None or not_face:
+                raise MeshError("this file was written by Wrinkle Studio: its face is one mesh, "
+                                "with no parts to keep or mark", path)
+            return _load_own(g)
+        return _load_scene(g, keep, not_face, kind, report)
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
             RecursionError, struct.error) as exc:  # a structure no check above foresaw
         raise MeshError(f"the glTF file is malformed ({type(exc).__name__}: {exc})",
                         path) from None
 
 
-def _load_gltf(path: Path) -> Project:
-    g = _Gltf(path)
+def _written_here(g: _Gltf) -> bool:
+    """The studio's own export: its extras, or its welded numbering on a primitive."""
+    return g.doc.get("extras", {}).get(EXTRAS_KEY) is not None or any(
+        isinstance(p, dict) and "_WELD" in p.get("attributes", {})
+        for m in _list(g, g.doc, "meshes") if isinstance(m, dict)
+        for p in m.get("primitives", []))
+
+
+def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str] | None,
+                kind: str | None, report: list[str] | None) -> Project:
+    """Another tool's file: the face found among its meshes, merged, its maps in an atlas."""
+    choice = choose_face(scene_meshes(g), keep, not_face, kind, str(g.path))
+    merged = merge_face(choice, str(g.path))
+    mesh, tiles, textures = atlas_textures(g, choice, merged)
+    project = Project(g.path.stem, mesh, merged.poses, textures, not_face=merged.not_face,
+                      uv_tiles=tiles)
+    animated = next((choice.meshes[i] for i in choice.kept_meshes()
+                     if choice.meshes[i].node is not None and choice.meshes[i].target_names),
+                    None)
+    if animated is not None and merged.poses:
+        try:
+            timeline = timeline_from_animation(g.doc, animated.node, animated.target_names,
+                                               g.accessor)
+        except (KeyError, IndexError, TypeError, ValueError) as exc:
+            raise MeshError(f"the morph-weight animation is malformed ({exc})",
+                            g.path) from None
+        if timeline is not None:
+            project.timeline = timeline
+    if report is not None:
+        report += report_lines(choice, merged)
+    return project
+
+
+def _load_own(g: _Gltf) -> Project:
+    path = g.path
     mesh_spec, prim = _triangle_primitive(g)
     attrs = prim["attributes"]
     positions = g.typed(attrs["POSITION"], ("VEC3",), "POSITION")
