@@ -148,6 +148,26 @@ def _stl_not_ascii(folder: Path) -> None:
     (folder / "bad.stl").write_bytes(b"solid face\n\xff\xfe\x93 facet normal 0 0 1\n")
 
 
+def _text(name: str, text: str) -> Callable[[Path], None]:
+    return lambda folder: (folder / name).write_text(text)
+
+
+def _ply(kind: str, rows: list[str]) -> Callable[[Path], None]:
+    """bad.ply: an ASCII PLY of one triangle, x y z s t per vertex as ``kind`` (float/double)."""
+    header = ["ply", "format ascii 1.0", f"element vertex {len(rows)}",
+              *(f"property {kind} {axis}" for axis in "xyzst"),
+              "element face 1", "property list uchar int vertex_indices", "end_header"]
+    return _text("bad.ply", "\n".join([*header, *rows, "3 0 1 2"]) + "\n")
+
+
+def _pose_beyond_float32(folder: Path) -> None:
+    """pose.obj: face.obj with its second vertex's x at 1e39."""
+    lines = (folder / "face.obj").read_text().splitlines()
+    second = [i for i, line in enumerate(lines) if line.startswith("v ")][1]
+    lines[second] = "v 1e39 " + " ".join(lines[second].split()[2:])
+    (folder / "pose.obj").write_text("\n".join(lines) + "\n")
+
+
 def _doc(change: Callable[[dict], None]) -> Callable[[Path], None]:
     return lambda folder: rewrite_project(folder / "p.wrinkle", folder / "bad.wrinkle", change)
 
@@ -298,6 +318,34 @@ CASES = [
     Case("OBJ face index out of range", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
          "bad.obj", lambda f: (f / "bad.obj").write_text("v 0 0 0\nvt 0 0\nf 1/1 2/1 9/1\n"),
          "out.wrinkle"),
+    # numbers beyond 32-bit floats: numpy warned as they were cast (issue #30)
+    Case("OBJ vertex of 1e39", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
+         "vertex 2 (line 2) is outside the range of 32-bit floats",
+         _text("bad.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"),
+         "out.wrinkle"),
+    Case("OBJ texture coordinate of -1e39", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
+         "texture coordinate 2 (line 5) is outside the range of 32-bit floats",
+         _text("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0 -1e39\nf 1/1 2/2 3/1\n"),
+         "out.wrinkle"),
+    Case("OBJ key pose of 1e39", ["new", "--mesh", "face.obj", "--pose", "smile=pose.obj", "-o",
+                                  "out.wrinkle"],
+         "pose.obj: vertex 2 (line 3) is outside the range of 32-bit floats",
+         _pose_beyond_float32, "out.wrinkle"),
+    Case("PLY double vertex of 1e39", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
+         "vertex 2 is outside the range of 32-bit floats",
+         _ply("double", ["0 0 0 0 0", "1e39 0 0 1 0", "0 1 0 0 1"]), "out.wrinkle"),
+    Case("PLY double UV of 1e39", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
+         "the texture coordinate of vertex 3 is outside the range of 32-bit floats",
+         _ply("double", ["0 0 0 0 0", "1 0 0 1 0", "0 1 0 0 1e39"]), "out.wrinkle"),
+    Case("PLY float vertex of 1e39", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
+         "vertex 2 has a non-finite coordinate",
+         _ply("float", ["0 0 0 0 0", "1e39 0 0 1 0", "0 1 0 0 1"]), "out.wrinkle"),
+    Case("PLY float UV of NaN", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
+         "vertex 2 has a non-finite texture coordinate",
+         _ply("float", ["0 0 0 0 0", "1 0 0 nan 0", "0 1 0 0 1"]), "out.wrinkle"),
+    Case("OFF vertex of 1e39", ["new", "--mesh", "bad.off", "-o", "out.wrinkle"],
+         "vertex 2 is outside the range of 32-bit floats",
+         _text("bad.off", "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n"), "out.wrinkle"),
 ]
 
 

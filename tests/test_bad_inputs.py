@@ -1,6 +1,6 @@
-"""Each hostile or careless input of issue #20, run through the real command line in a
-subprocess: exit code 2, one line naming the problem, no file written or changed, peak memory
-under a bound, and no hang (a subprocess timeout fails the test).
+"""Each hostile or careless input of issues #20 and #30, run through the real command line in a
+subprocess with warnings turned into errors: exit code 2, one line naming the problem, no file
+written or changed, peak memory under a bound, and no hang (a subprocess timeout fails the test).
 
 The corpus is generated (tests/bad_inputs.py); a kill during export shows that an interrupted
 write leaves the old file or a complete new one, never a broken one.
@@ -33,8 +33,8 @@ RUNNER = ("import resource, sys\n"
           "    code = main(sys.argv[1:])\n"
           "finally:\n"
           "    try:\n"
-          "        status = open('/proc/self/status').read().split('VmHWM:')[1]\n"
-          "        peak = int(status.split()[0])\n"
+          "        with open('/proc/self/status') as status:\n"
+          "            peak = int(status.read().split('VmHWM:')[1].split()[0])\n"
           "    except (OSError, IndexError, ValueError):\n"
           "        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
           "    sys.stderr.write(f'\\nPEAK_RSS_KB {peak}\\n')\n"
@@ -43,9 +43,12 @@ RUNNER = ("import resource, sys\n"
 
 def run_cli(args: list[str], cwd: Path, timeout: float = TIMEOUT_S
             ) -> tuple[int, list[str], str, int]:
-    """(exit code, stderr lines without the memory report, stdout, peak RSS in KiB)."""
+    """(exit code, stderr lines without the memory report, stdout, peak RSS in KiB).
+
+    Warnings are errors (``-W error``): a warning would print its source line before the
+    message, so one that any input provokes fails the case instead (issue #30)."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    done = subprocess.run([sys.executable, "-c", RUNNER, *args], cwd=cwd, env=env,
+    done = subprocess.run([sys.executable, "-W", "error", "-c", RUNNER, *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=timeout)
     lines = [line for line in done.stderr.splitlines() if line.strip()]
     peak = int(lines.pop().split()[1]) if lines and lines[-1].startswith("PEAK_RSS_KB") else 0

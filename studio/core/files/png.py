@@ -86,6 +86,26 @@ def png_header(data: bytes) -> tuple[int, int, int, int, int]:
     return width, height, depth, colour, interlace
 
 
+HEADER_BYTES = 33  # signature and IHDR chunk: all png_header reads
+METADATA_BYTES = 16 << 20  # room for colour profiles, text, EXIF and thumbnails
+
+
+def max_file_bytes(data: bytes) -> int:
+    """The most bytes a PNG with the header at the start of ``data`` can take: its rows stored
+    without compression, a quarter more for the least efficient encoders (fixed Huffman codes
+    spend 9 bits on some bytes; small IDAT chunks add 12 bytes each), and METADATA_BYTES.
+
+    Why: a PNG's size does not follow from its header exactly, but it is bounded by it; a
+    container (a project archive) can refuse a member larger than this before inflating it,
+    so a PNG padded with a gigabyte of zeros in an ancillary chunk costs nothing to refuse.
+    """
+    width, height, depth, colour, _ = png_header(data)
+    channels = 1 if colour == 3 else _CHANNELS.get(colour, 4)  # a palette stores indices
+    row = -(-width * depth * channels // 8)
+    raw = height * (row + 16)  # + filter bytes and per-pass rounding when interlaced
+    return raw + raw // 4 + METADATA_BYTES
+
+
 def _chunks(data: bytes) -> tuple[bytes, bytes]:
     """(IHDR payload, joined IDAT payloads), every chunk's CRC checked."""
     pos, idat, header = 8, [], b""

@@ -21,6 +21,7 @@ face or vertex (numbered from 1, as in the file) — never a bare traceback.
 from __future__ import annotations
 
 import re
+import warnings
 import weakref
 from collections.abc import Collection
 from dataclasses import dataclass, field
@@ -322,8 +323,10 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
 
     positions = _floats(path, v_tok, v_line, "vertex coordinates")
     _require_finite(path, positions, v_line, "vertex {} (line {}) has a non-finite coordinate")
+    _require_float32(path, positions, "vertex {}", v_line)
     uvs = _floats(path, vt_tok, vt_line, "texture coordinates").reshape(-1, 2)
     _require_finite(path, uvs, vt_line, "texture coordinate {} (line {}) is not finite")
+    _require_float32(path, uvs, "texture coordinate {}", vt_line)
 
     size_arr = np.asarray(sizes, dtype=np.intp)
     lines = np.asarray(f_line, dtype=np.intp)
@@ -361,6 +364,22 @@ def _require_finite(path: Path, values: Array, lines: Array, message: str) -> No
     if bad.any():
         i = int(np.argmax(bad))
         raise MeshError(message.format(i + 1, lines[i]) + " (NaN or infinity)", path)
+
+
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
+def _require_float32(path: Path, values: Array, what: str, lines: Array | list[int] | None = None
+                     ) -> None:
+    """Name the first row (``what`` takes its number) holding a value beyond the range of
+    32-bit floats: the studio keeps positions and UVs as float32, where such a value would
+    become infinity (with a numpy warning) far from the file that held it."""
+    bad = (np.abs(values) > _FLOAT32_MAX).any(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        where = "" if lines is None else f" (line {lines[i]})"
+        raise MeshError(f"{what.format(i + 1)}{where} is outside the range of 32-bit floats",
+                        path)
 
 
 def _floats(path: Path, tokens: list[list[str]], lines: list[int], what: str) -> Array:
@@ -553,7 +572,11 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
             raise MeshError("the file is empty", path)
         if suffix == "stl":
             _check_stl_text(path)
-        loaded = trimesh.load(str(path), force="mesh", process=False)
+        with warnings.catch_warnings():
+            # numpy warns as trimesh casts a PLY value of 1e39 or NaN to float32: the values
+            # are checked below, and a warning would print its source line before our message
+            warnings.simplefilter("ignore")
+            loaded = trimesh.load(str(path), force="mesh", process=False)
     except MeshError:
         raise
     except Exception as exc:  # trimesh raises many kinds; the user needs one message
@@ -576,6 +599,7 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
     if bad.any():
         i = int(np.argmax(bad))
         raise MeshError(f"vertex {i + 1} has a non-finite coordinate (NaN or infinity)", path)
+    _require_float32(path, positions, "vertex {}")
     out_of_range = (faces < 0) | (faces >= len(positions))
     if out_of_range.any():
         f = int(np.argmax(out_of_range.any(axis=1)))
@@ -590,6 +614,7 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
         if not np.isfinite(uvs).all():
             i = int(np.argmax(~np.isfinite(uvs).all(axis=1)))
             raise MeshError(f"vertex {i + 1} has a non-finite texture coordinate", path)
+        _require_float32(path, uvs, "the texture coordinate of vertex {}")
     return positions, faces, uvs
 
 

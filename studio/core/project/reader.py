@@ -2,17 +2,15 @@
 from __future__ import annotations
 
 import errno
-import io
 import json
 import math
 import re
 import struct
-import warnings
 import zipfile
 import zlib
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import IO, Any, NoReturn
 
 try:  # advisory locks: POSIX only
     import fcntl
@@ -23,10 +21,17 @@ import numpy as np
 
 from studio.core.animation.poses import NEUTRAL, KeyPose
 from studio.core.animation.timeline import Timeline
-from studio.core.files.budgets import check_json_depth
+from studio.core.files.budgets import (
+    MESH_TRIANGLES,
+    MESH_VERTICES,
+    POSES,
+    Budget,
+    check_json_depth,
+)
 from studio.core.files.errors import Cancelled, ProjectError, StudioError
 from studio.core.files.input_checks import check_camera
-from studio.core.files.png import PngError, read_png
+from studio.core.files.npy import read_npy_header
+from studio.core.files.png import HEADER_BYTES, PngError, max_file_bytes, png_header, read_png
 from studio.core.files.safe_io import os_reason, require_regular
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
@@ -64,6 +69,7 @@ _DAMAGE = (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, struct.error, E
 
 
 Progress = Callable[[int, int], bool]  # (bytes read, bytes in all) -> go on?
+_PIECE = 1 << 20  # bytes inflated at a time into a member's buffer
 
 
 def load_project(path: str | Path, progress: Progress | None = None) -> Project:
@@ -165,19 +171,45 @@ class _Loader:
                       f"{MAX_TOTAL_BYTES >> 30} GiB limit (a damaged or hostile file)")
         return sizes
 
-    def read(self, name: Any, what: str) -> bytes:
+    def open(self, name: Any, what: str) -> IO[bytes]:
+        """The member ``name`` as a stream, nothing inflated yet (a header can be read first)."""
         if not isinstance(name, str) or _unsafe_name(name):
             self.fail(f"project.json names an invalid member {name!r} for {what}")
         if name not in self.sizes:
             self.fail(f"the project file is missing '{name}' ({what})")
-        with self.archive.open(name) as member:
-            data = member.read(self.sizes[name] + 1)
-        if len(data) != self.sizes[name]:
-            self.fail(f"the member '{name}' ({what}) is truncated or damaged")
-        self.done += len(data)
+        return self.archive.open(name)
+
+    def rest(self, member: IO[bytes], name: str, what: str, done: int,
+             head: bytes = b"") -> bytearray:
+        """``head`` and the rest of ``member``, of which ``done`` bytes were read already.
+
+        Read in pieces into one buffer, so that a member costs its own size once; callers
+        check what its header declares against its size before calling this."""
+        size = self.sizes[name]
+        buffer = bytearray(size - done + len(head))
+        buffer[:len(head)] = head
+        view = memoryview(buffer)
+        pos = len(head)
+        while pos < len(buffer):
+            count = member.readinto(view[pos:pos + _PIECE])
+            if not count:
+                self.fail(f"the member '{name}' ({what}) is truncated or damaged")
+            pos += count
+        view.release()
+        self.done += size
         if self.progress is not None and not self.progress(self.done, self.total):
             raise Cancelled()
-        return data
+        return buffer
+
+    def read(self, name: Any, what: str) -> bytes:
+        """The whole member (project.json: its size is checked against MAX_JSON_BYTES)."""
+        with self.open(name, what) as member:
+            return bytes(self.rest(member, name, what, 0))
+
+    def png_head(self, name: Any, what: str) -> bytes:
+        """The signature and IHDR of a PNG member, the rest not inflated."""
+        with self.open(name, what) as member:
+            return member.read(HEADER_BYTES)
 
     # -- project.json
     def document(self) -> dict[str, Any]:
@@ -237,28 +269,24 @@ class _Loader:
 
     # -- members
     def array(self, name: Any, dtype: type, shape: tuple[int, ...], what: str) -> Array:
-        data = self.read(name, what)
+        """The ``.npy`` member ``name``, its header checked against ``dtype``, ``shape`` and
+        the member's size before its data is inflated (a small hostile file cannot make the
+        studio allocate gigabytes to refuse it)."""
         expected = np.dtype(dtype)
-        stream = io.BytesIO(data)
-        try:
-            with warnings.catch_warnings():  # a damaged header makes ast warn as well as fail
-                warnings.simplefilter("ignore")
-                major, _ = np.lib.format.read_magic(stream)
-                if major not in (1, 2):
-                    raise ValueError(f"unsupported .npy version {major}")
-                header = (np.lib.format.read_array_header_1_0 if major == 1
-                          else np.lib.format.read_array_header_2_0)(stream)
-        except Exception as exc:  # numpy parses the header with tokenize and ast: their
-            # errors (TokenError, SyntaxError, ValueError, …) vary by version, all mean "damaged"
-            self.fail(f"'{name}' ({what}) is not a valid .npy array ({exc})")
-        file_shape, _, file_dtype = header
-        if file_dtype.kind != expected.kind or file_dtype.itemsize != expected.itemsize:
-            self.fail(f"'{name}' ({what}) holds {file_dtype} values, expected {expected}")
-        if tuple(file_shape) != shape:
-            self.fail(f"'{name}' ({what}) has shape {tuple(file_shape)}, expected {shape}")
-        if len(data) - stream.tell() != math.prod(shape) * expected.itemsize:
-            self.fail(f"'{name}' ({what}) is truncated or has extra bytes")
-        array = np.load(io.BytesIO(data), allow_pickle=False)
+        with self.open(name, what) as member:
+            try:
+                header = read_npy_header(member)
+            except ValueError as exc:
+                self.fail(f"'{name}' ({what}) is not a valid .npy array ({exc})")
+            if header.dtype.kind != expected.kind or header.dtype.itemsize != expected.itemsize:
+                self.fail(f"'{name}' ({what}) holds {header.dtype} values, expected {expected}")
+            if header.shape != shape:
+                self.fail(f"'{name}' ({what}) has shape {header.shape}, expected {shape}")
+            if self.sizes[name] != header.size + header.data_bytes:
+                self.fail(f"'{name}' ({what}) is truncated or has extra bytes")
+            data = self.rest(member, name, what, header.size)
+        array = np.frombuffer(data, dtype=header.dtype).reshape(
+            shape, order="F" if header.fortran_order else "C")
         array = np.ascontiguousarray(array, dtype=expected)  # native byte order, C order
         if expected.kind == "f" and not np.isfinite(array).all():
             self.fail(f"'{name}' ({what}) contains non-finite values (NaN or infinity)")
@@ -268,9 +296,20 @@ class _Loader:
         shared = self.images.shared(name, what, grey)
         if shared is not None:
             return shared
-        data = self.read(name, what)
+        with self.open(name, what) as member:
+            head = member.read(HEADER_BYTES)
+            try:  # the budgets and the member's size from the header, before inflating it
+                self.images.claim(name, head, what, grey)
+                limit = max_file_bytes(head)
+            except PngError as exc:
+                self.fail(f"'{name}' ({what}) cannot be read: {exc}")
+            if self.sizes[name] > limit:
+                width, height, *_ = png_header(head)
+                self.fail(f"'{name}' ({what}) is {self.sizes[name]:,} bytes, more than a PNG "
+                          f"of its {width}×{height} pixels can take ({limit:,}): a damaged or "
+                          "hostile file")
+            data = self.rest(member, name, what, len(head), head)
         try:
-            self.images.claim(name, data, what, grey)
             image = read_png(data, MAX_PIXEL_BYTES)
         except PngError as exc:
             self.fail(f"'{name}' ({what}) cannot be read: {exc}")
@@ -292,6 +331,8 @@ class _Loader:
         source = self.field(mesh_doc, "source", "text", "mesh.") if "source" in mesh_doc else ""
         counts = {key: self.field(mesh_doc, key, "count", "mesh.")
                   for key in ("welded_vertices", "render_vertices", "triangles")}
+        for key, budget in _COUNT_BUDGETS.items():  # before any array is inflated
+            budget.check(counts[key], f"project.json: mesh.{key}", self.path, ProjectError)
         arrays = {key: self.array(f"mesh/{key}.npy", dtype,
                                   tuple(counts[d] if isinstance(d, str) else d for d in dims),
                                   f"the mesh's {key}")
@@ -303,6 +344,8 @@ class _Loader:
                       for i, p in enumerate(self.field(doc, "poses", "list", ""))]
         if NEUTRAL in pose_names:
             self.fail(f"project.json: a key pose is called '{NEUTRAL}', a reserved name")
+        POSES.check(len(pose_names), "project.json: the pose count", self.path,
+                    ProjectError)
         if len(set(pose_names)) != len(pose_names):
             self.fail("project.json: two key poses have the same name")
         poses = [KeyPose(p, self.array(pose_member(i), np.float32, (n, 3), f"key pose '{p}'"))
@@ -368,7 +411,7 @@ class _Loader:
         areas = []
         entries = self.field(doc, "areas", "list", "influence.")
         self.images.plan_masks([e.get("mask") for e in entries if isinstance(e, dict)],
-                               self.read)
+                               self.png_head)
         for i, entry in enumerate(entries):
             where = f"influence.areas[{i}]."
             entry = self.value(entry, "object", where[:-1])
@@ -421,6 +464,9 @@ class _Loader:
                         self.field(doc, "scale_free", "bool", "wdv."))
 
 
+_COUNT_BUDGETS: dict[str, Budget] = {"welded_vertices": MESH_VERTICES,
+                                     "render_vertices": MESH_VERTICES,
+                                     "triangles": MESH_TRIANGLES}
 _KIND_WORDS = {"text": "text", "bool": "true or false", "object": "a JSON object",
                "list": "a JSON list"}
 

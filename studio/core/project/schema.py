@@ -56,10 +56,13 @@ carries them as a plain ``project.extra`` dict attribute (only when there are an
 :func:`save_project` writes them back.
 
 Loading trusts nothing: every member name, size, JSON field, array dtype/shape/value and image
-mode/size is checked, ``np.load`` runs with ``allow_pickle=False``, and each problem raises
-:class:`ProjectError` with the file's path and one sentence. Saving is atomic: a temporary file
-in the target's folder, fsync, then ``os.replace``; on failure the old file is untouched. The
-previous version is kept as ``NAME.wrinkle.bak`` (``save_project(..., backup=False)`` skips it).
+mode/size is checked, each member's header (a ``.npy``'s dtype and shape, a PNG's IHDR) against
+project.json, the budgets and the member's size *before* the member is inflated (a 600 kB file
+cannot make the loader allocate 600 MB to refuse it), arrays are read as raw bytes of their
+checked dtype (never pickles), and each problem raises :class:`ProjectError` with the file's
+path and one sentence. Saving is atomic: a temporary file in the target's folder, fsync, then
+``os.replace``; on failure the old file is untouched. The previous version is kept as
+``NAME.wrinkle.bak`` (``save_project(..., backup=False)`` skips it).
 """
 
 from __future__ import annotations
