@@ -2,7 +2,9 @@
 
 When the neutral mesh is an OBJ with several objects, groups or materials, a table lists them:
 keep them all or only the ticked ones (the key poses are cut the same way), and tick the parts
-that are not skin (eyes, teeth) so they never wrinkle.
+that are not skin (eyes, teeth) so they never wrinkle. A glTF's meshes and materials are listed
+the same way, with what was found already ticked: the meshes its morph targets move kept, its
+eyes and teeth not face.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from PySide6.QtWidgets import (
 from studio.core.files.errors import StudioError
 from studio.core.mesh.meshio import ObjGroup, obj_groups
 from studio.core.project.assemble import project_from_files, suggest_not_face
+from studio.core.project.gltf import gltf_parts
 from studio.core.project.model import Project
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import face_frame, face_locator
@@ -44,7 +47,9 @@ from studio.widgets.progress import progress_dialog
 
 MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
 # Kinds of OBJ part, in the order preferred when two have as many names.
-KIND_LABELS = {"group": "Groups (g)", "material": "Materials (usemtl)", "object": "Objects (o)"}
+KIND_LABELS = {"mesh": "Meshes", "group": "Groups (g)", "material": "Materials",
+               "object": "Objects (o)"}
+GLTF = (".glb", ".gltf")
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga);;All files (*)"
 
 
@@ -82,6 +87,7 @@ class PartsBox(QGroupBox):
     def __init__(self) -> None:
         super().__init__("Parts of the mesh")
         self.groups: list[ObjGroup] = []
+        self.found: tuple[set[str], set[str]] | None = None  # a glTF's kept and not-face names
         self.kind = QComboBox()
         self.kind.currentIndexChanged.connect(self._fill)
         self.keep_all = QRadioButton("Keep all parts")
@@ -114,10 +120,12 @@ class PartsBox(QGroupBox):
         layout.addWidget(self.table, 1)
         layout.addWidget(hint)
 
-    def set_groups(self, groups: list[ObjGroup]) -> None:
+    def set_groups(self, groups: list[ObjGroup],
+                   found: tuple[set[str], set[str]] | None = None) -> None:
         """Offer the parts (hidden when no kind has two); the kind with the most names is
-        shown first, and likely non-skin parts start ticked as not face."""
-        self.groups = groups
+        shown first, and likely non-skin parts start ticked as not face. ``found``: the names
+        a glTF's face finding keeps and marks not face, ticked to start with."""
+        self.groups, self.found = groups, found
         counts = {k: sum(g.kind == k for g in groups) for k in KIND_LABELS}
         kinds = [k for k in KIND_LABELS if counts[k] > 1]
         self.kind.blockSignals(True)
@@ -125,13 +133,15 @@ class PartsBox(QGroupBox):
         for kind in sorted(kinds, key=lambda k: -counts[k]):
             self.kind.addItem(KIND_LABELS[kind], kind)
         self.kind.blockSignals(False)
-        self.keep_all.setChecked(True)
+        kept_all = found is None or all(g.name in found[0] for g in groups)
+        (self.keep_all if kept_all else self.keep_some).setChecked(True)
         self._fill()
         self.setVisible(bool(kinds))
 
     def _fill(self) -> None:
         shown = [g for g in self.groups if g.kind == self.kind.currentData()]
-        suggested = set(suggest_not_face(g.name for g in shown))
+        kept = self.found[0] if self.found else {g.name for g in shown}
+        suggested = self.found[1] if self.found else set(suggest_not_face(g.name for g in shown))
         self.table.setRowCount(0)
         for row, group in enumerate(shown):
             self.table.insertRow(row)
@@ -139,7 +149,8 @@ class PartsBox(QGroupBox):
             faces = QTableWidgetItem(str(group.faces))
             faces.setTextAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
             self.table.setItem(row, self.FACES, faces)
-            for column, ticked in ((self.KEEP, True), (self.NOT_FACE, group.name in suggested)):
+            for column, ticked in ((self.KEEP, group.name in kept),
+                                   (self.NOT_FACE, group.name in suggested)):
                 item = QTableWidgetItem()
                 item.setFlags(Qt.ItemFlag.ItemIsUserCheckable | Qt.ItemFlag.ItemIsEnabled)
                 item.setCheckState(Qt.CheckState.Checked if ticked else Qt.CheckState.Unchecked)
@@ -172,8 +183,9 @@ class PartsBox(QGroupBox):
             return None
         return self.ticked(self.KEEP)
 
-    def not_face(self) -> list[str]:
-        return [] if self.isHidden() else self.ticked(self.NOT_FACE)
+    def not_face(self) -> list[str] | None:
+        """The ticked parts; None when no table is shown (a glTF then suggests its own)."""
+        return None if self.isHidden() else self.ticked(self.NOT_FACE)
 
 
 class NewProjectDialog(QDialog):
@@ -222,15 +234,22 @@ class NewProjectDialog(QDialog):
         layout.addWidget(box)
 
     def list_parts(self) -> None:
-        """Offer the parts of a neutral OBJ; a file that cannot be read is reported at Create."""
+        """Offer the parts of a neutral OBJ or glTF; a file that cannot be read is reported at
+        Create."""
         path = Path(self.mesh.path() or "")
         groups: list[ObjGroup] = []
-        if path.suffix.lower() == ".obj" and path.is_file():
+        found = None
+        suffix = path.suffix.lower()
+        if suffix in (".obj", *GLTF) and path.is_file():
             try:
-                groups = obj_groups(path)
+                if suffix == ".obj":
+                    groups = obj_groups(path)
+                else:
+                    groups, *chosen = gltf_parts(path)
+                    found = (chosen[0], chosen[1])
             except StudioError:
-                groups = []
-        self.parts.set_groups(groups)
+                groups, found = [], None
+        self.parts.set_groups(groups, found)
 
     def add_poses(self) -> None:
         names, _ = QFileDialog.getOpenFileNames(self, "Key-pose meshes", "", MESH_FILTER)

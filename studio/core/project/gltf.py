@@ -33,12 +33,12 @@ from studio.core.files.errors import MeshError
 from studio.core.files.png import encode_png
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
-from studio.core.mesh.meshio import mesh_from_render_vertices
+from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
 from studio.core.project.gltf_animation import animation_spec, timeline_from_animation
 from studio.core.project.gltf_container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
-from studio.core.project.gltf_face import choose_face, merge_face, report_lines
+from studio.core.project.gltf_face import choose_face, merge_face, report_lines, scene_groups
 from studio.core.project.gltf_materials import _rgb, atlas_textures
 from studio.core.project.gltf_scene import scene_meshes
 from studio.core.project.model import Project
@@ -50,7 +50,8 @@ from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
 EXTRAS_KEY = "wrinkleStudio"
-__all__ = ["BIN_CHUNK", "JSON_CHUNK", "_Gltf", "load_gltf", "load_weight_animation", "save_gltf"]
+__all__ = ["BIN_CHUNK", "JSON_CHUNK", "_Gltf", "gltf_parts", "load_gltf", "load_weight_animation",
+           "save_gltf"]
 
 
 def _first_occurrence(weld: Array, n_welded: int) -> Array:
@@ -487,3 +488,29 @@ def _weight_animation(g: _Gltf) -> tuple[list[str], Array, Array]:
                 values = np.repeat(values, 2, axis=0)[:-1]
             return names, times, values
     raise MeshError("no animation of morph-target weights in the glTF file", g.path)
+
+
+def gltf_parts(path: str | Path) -> tuple[list[ObjGroup], set[str], set[str]]:
+    """A glTF scene's meshes and materials for a parts table (kinds "mesh" and "material",
+    with triangle counts), the names the face found keeps and those suggested as not face."""
+    path = Path(path)
+    try:
+        g = _Gltf(path)
+        if _written_here(g):
+            return [], set(), set()
+        choice = choose_face(scene_meshes(g), None, None, None, str(path))
+        merge_face(choice, str(path))
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
+            RecursionError, struct.error) as exc:
+        raise MeshError(f"the glTF file is malformed ({type(exc).__name__}: {exc})",
+                        path) from None
+    keep: set[str] = set()
+    flagged: dict[str, list[bool]] = {}
+    for i, j in choice.kept:
+        node, prim = choice.meshes[i], choice.meshes[i].primitives[j]
+        marked = (i, j) in choice.not_face
+        for name in (node.label, prim.material_name):
+            if name:
+                keep.add(name)
+                flagged.setdefault(name, []).append(marked)
+    return scene_groups(choice.meshes), keep, {n for n, f in flagged.items() if all(f)}
