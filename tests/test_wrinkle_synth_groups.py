@@ -16,14 +16,11 @@ from studio.core.animation.poses import KeyPose
 from studio.core.mesh.uv_tiles import SINGLE, TileLayout
 from studio.core.project.model import Project
 from studio.core.setup import wrinkle_synth as synth
-from studio.core.setup.wrinkle_synth import BINS, FurrowField, PhasorBank
+from studio.core.setup.wrinkle_synth import FurrowField
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from tests.test_auto_setup import grid_mesh, squeezed
 
 pytestmark = pytest.mark.core
-
-STEP = 180.0 / BINS  # degrees between bank orientations: 5.625
-
 
 def _field(
     index: list[int] | np.ndarray,
@@ -33,7 +30,8 @@ def _field(
     """A furrow field on these texels, furrow waves at these orientations (degrees)."""
     index = np.asarray(index, np.int64)
     amount = np.broadcast_to(np.asarray(amount, np.float32), index.shape).copy()
-    return FurrowField.of(index, amount, np.radians(np.asarray(degrees, np.float64)))
+    return FurrowField(index, amount, np.asarray(degrees, np.float32),
+                       np.zeros(index.shape, np.float32))
 
 
 # --------------------------------------------------------------------------------------------
@@ -113,102 +111,74 @@ def test_encode_maps_minus_one_to_one_onto_the_full_range_and_clips():
     np.testing.assert_array_equal(synth._encode(normals, np.uint16), [0, 0, 32768, 65535, 65535])
 
 
-def test_degrees_are_the_blended_orientation():
-    f = FurrowField(
-        np.arange(3),
-        np.ones(3, np.float32),
-        np.array([0, 16, 31]),
-        np.float32([0.0, 0.5, 0.25]),
-        np.zeros(BINS + 1, np.int64),
-    )
-    np.testing.assert_allclose(synth._degrees(f), [0.0, 16.5 * STEP, 31.25 * STEP])
-
-
 # --------------------------------------------------------------------------------------------
-# Orientation bins
+# Furrows from a phase
 # --------------------------------------------------------------------------------------------
 
 
-def test_a_fields_texels_are_sliced_by_orientation_and_read_two_bins_each():
-    """Texels at 1°, 2° (bin 0), 30° (bin 5) and 179° (bin 31): each bin's texels are one
-    slice; the field reads its bins and the next of each (31's next is 0)."""
-    f = _field([10, 11, 12, 13], [30.0, 1.0, 179.0, 2.0])
-    assert f.span(0) == slice(0, 2) and f.span(5) == slice(2, 3) and f.span(31) == slice(3, 4)
-    assert f.span(1) == slice(2, 2)
-    np.testing.assert_array_equal(f.index[f.span(0)], [11, 13])
-    assert f.bins() == {0, 1, 5, 6, 31}
-    assert _field([1], [90.0]).bins() == {16, 17}
-    assert _field([], []).bins() == set()
+def test_regions_are_labelled_by_their_smallest_texel() -> None:
+    inside = np.zeros((6, 6), bool)
+    inside[1:3, 1:3] = True  # a square
+    inside[4:, 3:] = True  # a bar
+    inside[0, 5] = True  # a lone texel
+    labels = synth.label_regions(inside)
+    assert (labels[1:3, 1:3] == 7).all() and (labels[4:, 3:] == 27).all() and labels[0, 5] == 5
+    assert (labels[~inside] == -1).all()
+    spiral = np.zeros((9, 9), bool)  # one long winding region: one label
+    spiral[0, :] = spiral[:, 8] = spiral[8, :] = spiral[2:, 0] = spiral[2, :7] = True
+    spiral[2:7, 6] = spiral[6, 2:7] = True
+    assert len(np.unique(synth.label_regions(spiral)[spiral])) == 1
 
 
-# --------------------------------------------------------------------------------------------
-# The phasor bank and the blend of its orientations
-# --------------------------------------------------------------------------------------------
-
-SIZE = 64
-SPACING = 8.0  # 1 / 8 = 8 frequency bins of 64
-
-
-def _gain(bank: PhasorBank, k: int) -> np.ndarray:
-    """The filter the bank applied for orientation k (its field's spectrum over the noise's)."""
-    return (np.fft.fft2(bank.field(k).reshape(SIZE, SIZE)) / bank.spectrum).real
+def test_the_potential_of_a_uniform_field_is_a_ramp_inside_it() -> None:
+    fx, fy = np.zeros((96, 96)), np.zeros((96, 96))
+    fy[20:76, 10:86] = 1.0  # waves along y in a wide band: furrows along x
+    phi = synth._potential(fx, fy)
+    slope = np.diff(phi[30:66, 48])
+    assert (slope > 0).all()  # one way all along: no ring, no fold back
+    assert np.ptp(phi[48, 30:66]) < 0.2 * np.ptp(phi[30:66, 48])  # and level across
 
 
-def test_the_bank_passes_one_frequency_along_each_orientation():
-    """Orientation 0 passes frequency 1/spacing along x (gain 1), one side only; one bin off
-    across the furrows keeps exp(−2π²(0.8·8/64)²), one bin along exp(−2π²(1.6·8/64)²);
-    orientation 16 (90°) the same along y."""
-    bank = PhasorBank(SIZE, SPACING, 7)
-    g = _gain(bank, 0)
-    assert g[0, 8] == pytest.approx(1.0, abs=1e-3)
-    assert abs(g[0, -8]) < 1e-3
-    assert g[0, 9] == pytest.approx(np.exp(-2 * np.pi**2 * 0.1**2), abs=1e-3)
-    assert g[1, 8] == pytest.approx(np.exp(-2 * np.pi**2 * 0.2**2), abs=1e-3)
-    g = _gain(bank, 16)
-    assert g[8, 0] == pytest.approx(1.0, abs=1e-3)
-    assert abs(g[-8, 0]) < 1e-3 and abs(g[0, 8]) < 1e-3
-    assert g[8, 1] == pytest.approx(np.exp(-2 * np.pi**2 * 0.2**2), abs=1e-3)
+def test_a_band_squeezed_across_gets_straight_furrows_at_the_spacing_one_at_its_peak() -> None:
+    """Strength peaks along row 40 of a band squeezed along y: the phase advances 2π per
+    spacing along y, is level along x, and is 0 (a furrow's bottom) on the peak row."""
+    y = np.arange(96, dtype=np.float32)[:, None]
+    strength = np.clip(1.0 - np.abs(y - 40.0) / 30.0, 0.0, 1.0) * np.ones((1, 96), np.float32)
+    angle = np.full((96, 96), np.pi / 2, np.float32)  # wave along y
+    spacing = 12.0
+    phase, straight = synth.furrow_phase(strength, angle, 2 * np.pi / spacing)
+    assert phase[40, 48] == pytest.approx(0.0, abs=0.01)
+    per_texel = np.gradient(phase[25:56, 48])
+    np.testing.assert_allclose(np.abs(per_texel), 2 * np.pi / spacing, rtol=0.25)
+    assert np.ptp(phase[40, 20:76]) < 0.1
+    assert straight[30:50, 20:76].min() > 0.99
 
 
-def test_a_diagonal_orientation_is_centred_on_its_diagonal():
-    """Orientation 8 (45°): at frequency (6, 6)/64 the offset is all across the furrows."""
-    g = _gain(PhasorBank(SIZE, SPACING, 7), 8)
-    across = 6 * np.sqrt(2) / 64 - 1 / 8
-    assert g[6, 6] == pytest.approx(np.exp(-2 * np.pi**2 * (6.4 * across) ** 2), abs=1e-3)
-    along = 2 * np.sqrt(2) / 64  # (7, 5) is two bins along the furrows from (6, 6)… and across
-    across = 12 / (64 * np.sqrt(2)) - 1 / 8
-    assert g[5, 7] == pytest.approx(
-        np.exp(-2 * np.pi**2 * ((6.4 * across) ** 2 + (12.8 * along / 2) ** 2)), abs=1e-3
-    )
+def test_waves_toward_a_point_are_dropped_as_tight_rings() -> None:
+    """Skin squeezed toward a point (waves radial): the rings near it are not furrows."""
+    yy, xx = np.mgrid[0:96, 0:96].astype(np.float32)
+    angle = np.mod(np.arctan2(yy - 48.0, xx - 48.0), np.pi)
+    strength = np.ones((96, 96), np.float32)
+    _, straight = synth.furrow_phase(strength, angle, 2 * np.pi / 12.0)
+    assert straight[44:53, 44:53].max() < 0.05  # within a spacing of the centre
+    parallel = np.full((96, 96), 0.3, np.float32)
+    assert synth.furrow_phase(strength, parallel, 2 * np.pi / 12.0)[1][20:76, 20:76].min() > 0.99
 
 
-def test_each_texel_blends_its_two_nearest_orientations():
-    """Texel 0 at bin 5 exactly, texel 1 at 30 % of the way from bin 5 to 6, texel 2 at 40 %
-    past the last bin (toward 180°, the first bin's conjugate): the depth is amount ×
-    valley(phase of the blend)."""
-    angles = np.array([5 * STEP, 5.3 * STEP, 31.4 * STEP])
-    f = FurrowField.of(np.array([0, 1, 2]), np.float32([1.0, 0.5, 0.8]), np.radians(angles))
-    bank = PhasorBank(32, 6.0, 99)
-    z = {k: bank.field(k)[:3] for k in (0, 5, 6, 31)}
-    blends = [z[5][0], 0.7 * z[5][1] + 0.3 * z[6][1], 0.6 * z[31][2] + 0.4 * np.conj(z[0][2])]
-    expected = np.float32([1.0, 0.5, 0.8]) * synth.valley(np.angle(np.array(blends)))
-    calls: list[tuple[int, int]] = []
-    depth = synth.furrow_depths([f], 32, 6.0, 99, lambda d, t: calls.append((d, t)) or True)
-    assert depth.shape == (32, 32)
-    np.testing.assert_allclose(depth.ravel()[:3], expected, rtol=1e-4, atol=1e-5)
-    assert not depth.ravel()[3:].any()
-    # bins read: 5, 6, 31, 0 → four steps, counted from 1 (no total given)
-    assert calls == [(1, 0), (2, 0), (3, 0), (4, 0)]
+def test_a_fields_depth_is_its_amount_in_a_valley_fading_away_from_the_first() -> None:
+    f = FurrowField(np.arange(4), np.float32([1.0, 0.5, 1.0, 1.0]), np.zeros(4, np.float32),
+                    np.float32([0.0, 0.0, np.pi, 2 * np.pi * synth.FURROWS_EACH_SIDE]))
+    np.testing.assert_allclose(f.depth(), [1.0, 0.5, 0.0, np.exp(-1.0)], atol=1e-6)
 
 
 def test_groups_get_one_depth_image_each_from_one_pass():
     a, b = _field([0, 1], [10.0, 10.0]), _field([1, 2], [100.0, 100.0])
-    alone = [synth.furrow_depths([f], 32, 6.0, 5) for f in (a, b)]
-    grouped = synth.furrow_depths([a, b], 32, 6.0, 5, groups=[[1], [0]])
+    alone = [synth.furrow_depths([f], 32) for f in (a, b)]
+    grouped = synth.furrow_depths([a, b], 32, groups=[[1], [0]])
     assert len(grouped) == 2
     np.testing.assert_array_equal(grouped[0], alone[1])
     np.testing.assert_array_equal(grouped[1], alone[0])
-    both = synth.furrow_depths([a, b], 32, 6.0, 5)
+    both = synth.furrow_depths([a, b], 32)
     np.testing.assert_array_equal(both, np.maximum(*alone))
 
 
@@ -331,9 +301,9 @@ def test_crossing_poses_fill_the_placeholder_and_a_second_map():
     for name, poses in made.items():
         alone = synth.synthesise_wrinkle_map(project, poses, OPTIONS)
         np.testing.assert_array_equal(maps[name], alone.normal)
-    total = 2 + BINS
+    total = 2
     assert calls[0] == (1, total) and calls[1] == (2, total)
-    assert {t for _, t in calls} == {total} and len(calls) > 3
+    assert {t for _, t in calls} == {total}
     assert [d for d, _ in calls] == list(range(1, len(calls) + 1))
 
 
@@ -360,5 +330,5 @@ def test_with_room_for_one_more_map_the_crossing_pose_gets_it():
 def test_stopping_during_the_furrows_stops_the_fill():
     project = _crossing_project()
     before = project.textures.wrinkle_maps["wrinkles"].copy()
-    assert synth.fill_placeholder(project, OPTIONS, lambda d, t: d < 4) is None
+    assert synth.fill_placeholder(project, OPTIONS, lambda d, t: d < 2) is None
     np.testing.assert_array_equal(project.textures.wrinkle_maps["wrinkles"], before)

@@ -36,22 +36,22 @@ def scaled(mesh: FaceMesh, factor: float, uv_scale: float = 1.0) -> FaceMesh:
 
 
 def test_furrow_spacing_is_a_share_of_the_face_in_texels() -> None:
-    # texels per unit = 1024 · √(1/4) = 512; spacing = 0.02 · 2√2 · 512 = 28.96
+    # texels per unit = 1024 · √(1/4) = 512; spacing = FURROW_SPACING · 2√2 · 512
     options = synth.face_options(project_of(grid_mesh()), 1024)
     assert options.size == 1024
-    assert options.spacing == pytest.approx(0.02 * 2 * np.sqrt(2) * 512, rel=1e-5)
-    assert options.depth == pytest.approx(0.125 * options.spacing, rel=1e-6)
+    assert options.spacing == pytest.approx(synth.FURROW_SPACING * 2 * np.sqrt(2) * 512, rel=1e-5)
+    assert options.depth == pytest.approx(synth.DEPTH_PER_SPACING * options.spacing, rel=1e-6)
 
 
 @pytest.mark.parametrize("units", [0.001, 1.0, 1000.0])
 def test_the_same_face_in_any_unit_gets_the_same_furrows(units: float) -> None:
     options = synth.face_options(project_of(scaled(grid_mesh(), units)), 1024)
-    assert options.spacing == pytest.approx(0.02 * 2 * np.sqrt(2) * 512, rel=1e-4)
+    assert options.spacing == pytest.approx(synth.FURROW_SPACING * 2 * np.sqrt(2) * 512, rel=1e-4)
 
 
 def test_skin_packed_into_half_the_tile_gets_furrows_half_as_many_texels_apart() -> None:
     options = synth.face_options(project_of(scaled(grid_mesh(), 1.0, 0.5)), 1024)
-    assert options.spacing == pytest.approx(0.02 * 2 * np.sqrt(2) * 256, rel=1e-5)
+    assert options.spacing == pytest.approx(synth.FURROW_SPACING * 2 * np.sqrt(2) * 256, rel=1e-5)
 
 
 def test_triangles_that_are_not_skin_do_not_count() -> None:
@@ -60,7 +60,7 @@ def test_triangles_that_are_not_skin_do_not_count() -> None:
     mesh = grid_mesh()
     skin = (mesh.rest[:, 0] >= 0.0).astype(np.float32)
     options = synth.face_options(project_of(mesh, skin), 1024)
-    assert options.spacing == pytest.approx(0.02 * np.sqrt(5) * 512, rel=1e-5)
+    assert options.spacing == pytest.approx(synth.FURROW_SPACING * np.sqrt(5) * 512, rel=1e-5)
 
 
 def test_spacing_stays_between_three_texels_and_an_eighth_of_the_map() -> None:
@@ -70,7 +70,7 @@ def test_spacing_stays_between_three_texels_and_an_eighth_of_the_map() -> None:
     uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], np.float32)
     strip = FaceMesh(rest, np.array([[0, 1, 2], [0, 2, 3]]), uvs, np.arange(4))
     options = synth.face_options(project_of(strip), 1024)
-    assert options.spacing == 1024 / 8 and options.depth == 0.125 * 128
+    assert options.spacing == 1024 / 8 and options.depth == synth.DEPTH_PER_SPACING * 128
 
 
 def test_a_face_without_usable_skin_gets_the_default_options() -> None:

@@ -15,7 +15,7 @@ not-face never get any. Nothing here changes the project except :func:`apply_set
 from __future__ import annotations
 
 import colorsys
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -251,15 +251,16 @@ def auto_setup(project: Project, *, mask_size: int | None = None, **options) -> 
 
 
 def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
-               progress: Callable[[int, int], bool] | None = None) -> list[str] | None:
+               progress: Callable[[int, int], bool] | None = None,
+               poses: Sequence[str] | None = None) -> list[str] | None:
     """``wrinkle-studio new --auto``: the automatic setup and, for a face that came without a
     wrinkled normal map (a flat placeholder), maps synthesised from its key poses — several
     where poses' furrows cross, each pose's areas revealing its own — so that the imported face
     shows wrinkles at once. Returns what was done, a line each; None, with the project
     untouched, if ``progress`` (done, total: the set-up's steps then the synthesis's) returned
-    False."""
-    steps = len(project.poses)
-    report = suggest_setup(project, locate=locate, progress=progress)
+    False. ``poses``: the key poses to set up (default all), e.g. a rig's wrinkling ones."""
+    steps = len(project.poses) if poses is None else len(poses)
+    report = suggest_setup(project, locate=locate, progress=progress, poses=poses)
     if report is None:
         return None
     textures = dict(project.textures.wrinkle_maps)
@@ -267,7 +268,7 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
     def synth_progress(done: int, total: int) -> bool:
         return progress is None or progress(steps + done, steps + total)
 
-    made = fill_placeholder(project, progress=synth_progress)
+    made = fill_placeholder(project, progress=synth_progress, poses=poses)
     if made is None:
         project.textures.wrinkle_maps = textures
         return None

@@ -15,12 +15,13 @@ along the furrow. Steps:
    ``(cos 2θ, sin 2θ)``, so opposite directions add instead of cancelling) are rasterised per
    triangle at a work resolution, smoothed, and upsampled. The smoothed doubled-angle vector's
    length relative to its weight (the coherence) fades furrows where directions disagree.
-3. **Furrows**: *phasor noise* (Tricard et al. 2019). White noise filtered by a complex Gabor
-   kernel tuned to a frequency ``1/spacing`` along one orientation gives a field whose *phase*
-   advances by 2π per spacing along that orientation; a bank of orientations is filtered once
-   (FFT), each texel blends the two nearest, and a valley profile of the phase gives furrows
-   of even depth that follow any direction field — fans like crow's feet included — with the
-   natural breaks of real wrinkles. Fixed seed: the same input gives the same map.
+3. **Furrows**: a *phase* per texel whose gradient is the wave vector (2π per spacing across
+   the furrows), the least-squares potential of the oriented direction field of each
+   compressed region (a Poisson equation, solved by FFT), shifted so a furrow's bottom lies
+   where the region is compressed most. A valley profile of the phase gives few, long, smooth
+   furrows that follow the direction field — parallel lines on a forehead, a fan at an eye's
+   corner, one fold along a narrow band — never the crumples and rings of noise-based
+   patterns. No randomness: the same input gives the same map.
 4. The **height** is ``−depth × max over poses (amount × valley)``, in texels, and becomes a
    tangent-space normal map (``normalmap.height_to_normal``), laid over the neutral map's
    detail so pores stay where the furrows show.
@@ -52,13 +53,19 @@ from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS, FaceTextures, resize
 Array = np.ndarray
 Progress = Callable[[int, int], bool]  # (done, total) -> keep going
 
-BINS = 32  # orientations in the filter bank over 180°: 5.6° apart, well inside one kernel's
 WORK_SIZE = 256  # strain fields are smooth: rasterised at most this size, then upsampled
-SHARPNESS = 4.0  # exponent of the valley profile: higher = narrower furrows between flat skin
-SEED = 2010
-PEAK_SHARE = 0.7  # a pose's furrows are at full depth from 70 % of its strong compression on
-FURROW_SPACING = 0.02  # between neighbouring furrows, as a share of the face's size …
-DEPTH_PER_SPACING = 0.125  # … and their depth, as a share of the spacing (1.5 texels in 12)
+SHARPNESS = 2.5  # exponent of the valley profile: higher = narrower furrows between flat skin
+PEAK_SHARE = 0.5  # a pose's furrows are at full depth from half its strong compression on
+FURROW_SPACING = 0.025  # between neighbouring furrows, as a share of the face's size …
+DEPTH_PER_SPACING = 0.25  # … and their depth, as a share of the spacing (3 texels in 12)
+FURROWS_EACH_SIDE = 4.0  # of the deepest furrow, before the others fade to a third
+FURROWS_ACROSS = 4.0  # a region at least this many furrows across, …
+MAX_FINER = 2.0  # … spacing them up to this much closer than the face's spacing
+RING_SPACINGS = 2.0  # furrows curling tighter than rings this many spacings across are dropped
+ORIENT_PASSES = 12  # neighbourhood votes that orient a region's wave vectors alike …
+ORIENT_RADIUS = 6.0  # … over about this many work texels
+FURROW_THRESHOLD = 0.08  # furrows where a pose's strength is at least this, fading in above it
+MAX_PHASE_GAIN = 4.0  # at most this much steeper than the potential of a region's wave field
 CROSSING_ANGLE = 30.0  # degrees: furrows of two poses this far apart do not share a map
 CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's furrows
 
@@ -70,7 +77,6 @@ class SynthOptions:
     depth: float = 1.5  # of a furrow at full compression, texels (slopes are true to this)
     full_at: float = DEFAULT_FULL_AT  # compression at which furrows reach their full depth
     smoothing: float | None = None  # of the strain fields, texels; None: 1.5 × spacing
-    seed: int = SEED
 
     def check(self) -> None:
         if not 16 <= self.size <= 8192:
@@ -135,34 +141,20 @@ def _smooth_signed(values: Array, radius: float) -> Array:
 
 @dataclass
 class FurrowField:
-    """Where one pose makes furrows, at the map's size, on the texels it touches only; the
-    texels are sorted by the lower of the two bank orientations they blend, so that each
-    orientation's texels are one slice."""
+    """Where one pose makes furrows, at the map's size, on the texels it touches only."""
 
     index: Array  # (n,) flat texel indices
     amount: Array  # (n,) furrow strength in (0, 1]
-    lower: Array  # (n,) bank orientation just below the wave vector's, 0 … BINS − 1
-    frac: Array  # (n,) how far toward the next orientation, in [0, 1)
-    bounds: Array  # (BINS + 1,) texels of orientation k: [bounds[k], bounds[k + 1])
+    angle: Array  # (n,) the wave vector's orientation, degrees in [0, 180)
+    phase: Array  # (n,) radians: a furrow's bottom wherever it is a multiple of 2π
 
-    @classmethod
-    def of(cls, index: Array, amount: Array, angle: Array) -> FurrowField:
-        """From the wave vector's orientation in [0, π) per texel."""
-        position = np.asarray(angle, np.float64) / (np.pi / BINS)
-        lower = np.clip(np.floor(position), 0, BINS - 1).astype(np.int64)
-        frac = np.clip(position - lower, 0.0, 1.0).astype(np.float32)
-        order = np.argsort(lower, kind="stable")
-        lower = lower[order]
-        return cls(index[order], amount[order], lower, frac[order],
-                   np.searchsorted(lower, np.arange(BINS + 1)))
-
-    def span(self, k: int) -> slice:
-        return slice(int(self.bounds[k]), int(self.bounds[k + 1]))
-
-    def bins(self) -> set[int]:
-        """The bank orientations this field reads: its lower ones and the next of each."""
-        used = np.flatnonzero(np.diff(self.bounds) > 0)
-        return {int(k) for k in used} | {int(k + 1) % BINS for k in used}
+    def depth(self) -> Array:
+        """Each texel's furrow depth in [0, 1]: its amount times the valley profile, deepest
+        at the most compressed furrow and shallower the further a furrow lies from it (by
+        ``FURROWS_EACH_SIDE`` furrows, a third as deep): a few furrows, one leading."""
+        reach = np.float32(2.0 * np.pi * FURROWS_EACH_SIDE)
+        falloff = np.exp(-(self.phase / reach) ** 2)
+        return (self.amount * falloff * valley(self.phase)).astype(np.float32)
 
 
 def pose_full_at(compression: Array, full_at: float) -> float:
@@ -178,8 +170,9 @@ def pose_full_at(compression: Array, full_at: float) -> float:
 
 
 def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
-                 full_at: float, smoothing: float) -> FurrowField:
-    """Rasterise, smooth and upsample one pose's compression and direction fields."""
+                 full_at: float, smoothing: float, spacing: float) -> FurrowField:
+    """Rasterise and smooth one pose's compression and direction fields, lay furrows across
+    the direction (``furrow_phase``) and upsample to the map's size."""
     work = ids.shape[0]
     covered = ids >= 0
     tri = np.where(covered, ids, 0)
@@ -199,39 +192,156 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     s = _smooth_signed(layer(np.clip(weight, 0.0, 1.0) * sin2), radius)
     coherence = np.clip(np.hypot(c, s) / np.maximum(total, 1e-6), 0.0, 1.0)
     strength = np.clip(amount / max(full_at, 1e-6), 0.0, 1.0) * coherence
-    strength = mask_ops.resample(strength, size)
+    angle = np.mod(0.5 * np.arctan2(s, c), np.pi)
+    phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
+    # furrows only inside the regions the phase was laid out on, fading in from their edge
+    fade = np.clip((strength - FURROW_THRESHOLD) / FURROW_THRESHOLD, 0.0, 1.0) * straight
+    strength = mask_ops.resample(strength * fade, size)
     index = np.flatnonzero(strength > 1e-3)
     c_up = mask_ops.resample((c + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
     s_up = mask_ops.resample((s + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
-    angle = np.mod(0.5 * np.arctan2(s_up, c_up), np.pi)
-    return FurrowField.of(index, strength.ravel()[index], angle)
+    degrees = np.degrees(np.mod(0.5 * np.arctan2(s_up, c_up), np.pi))
+    return FurrowField(index, strength.ravel()[index], degrees.astype(np.float32),
+                       _resample_unbounded(phase, size).ravel()[index])
 
 
-# --- 3. furrows: a bank of oriented phasor-noise fields ------------------------------------------
+# --- 3. furrows: a phase whose gradient is the wave vector ---------------------------------------
 
-class PhasorBank:
-    """White noise filtered by complex Gabor kernels of one frequency at ``BINS`` orientations;
-    each orientation's field is computed (one inverse FFT) only when asked for."""
+def _resample_unbounded(values: Array, size: int) -> Array:
+    """``mask_ops.resample`` for values outside [0, 1] (a phase): scaled in and out."""
+    lo, hi = float(values.min()), float(values.max())
+    span = hi - lo or 1.0
+    return mask_ops.resample((values - lo) / span, size) * span + lo
 
-    def __init__(self, size: int, spacing: float, seed: int) -> None:
-        noise = np.random.default_rng(seed).standard_normal((size, size), dtype=np.float32)
-        self.spectrum = np.fft.fft2(noise)
-        fy = np.fft.fftfreq(size).astype(np.float32)[:, None]
-        fx = np.fft.fftfreq(size).astype(np.float32)[None, :]
-        self.fx, self.fy = fx, fy
-        self.frequency = 1.0 / spacing
-        # the kernel's envelope: σ texels across the furrows, twice that along them
-        self.sigma_across, self.sigma_along = 0.8 * spacing, 1.6 * spacing
 
-    def field(self, k: int) -> Array:
-        theta = k * np.pi / BINS
-        c, s = np.float32(np.cos(theta)), np.float32(np.sin(theta))
-        across = self.fx * c + self.fy * s - np.float32(self.frequency)
-        along = -self.fx * s + self.fy * c
-        gain = np.exp(np.float32(-2.0 * np.pi ** 2) * (
-            np.float32(self.sigma_across ** 2) * across * across
-            + np.float32(self.sigma_along ** 2) * along * along))
-        return np.fft.ifft2(self.spectrum * gain).astype(np.complex64).ravel()
+def label_regions(inside: Array) -> Array:
+    """Connected (4-neighbour) regions of a bool image: each texel's label is the smallest flat
+    index in its region, −1 outside. Labels spread to neighbours and jump along the chain of
+    labels (pointer jumping), so it takes a few dozen vectorised passes, not one per texel."""
+    h, w = inside.shape
+    label = np.where(inside.ravel(), np.arange(h * w), h * w)
+    big = h * w
+    while True:
+        grid = label.reshape(h, w)
+        low = grid.copy()
+        low[1:] = np.minimum(low[1:], np.where(inside[:-1], grid[:-1], big))
+        low[:-1] = np.minimum(low[:-1], np.where(inside[1:], grid[1:], big))
+        low[:, 1:] = np.minimum(low[:, 1:], np.where(inside[:, :-1], grid[:, :-1], big))
+        low[:, :-1] = np.minimum(low[:, :-1], np.where(inside[:, 1:], grid[:, 1:], big))
+        low = np.where(inside, low, big).ravel()
+        here = low < big
+        low[here] = np.minimum(low[here], low[low[here]])  # jump: my label's label
+        if np.array_equal(low, label):
+            return np.where(here, low, -1).reshape(h, w)
+        label = low
+
+
+def _oriented(inside: Array, on: Array, theta: Array, weight: Array, start: Array,
+              passes: int = ORIENT_PASSES) -> Array:
+    """±1 per texel of ``on``: which way along its line direction ``theta`` each texel's wave
+    vector points, so that neighbours agree. Starts from ``start`` (agreement with the
+    region's mean direction) and lets each texel follow the weighted mean of its
+    neighbourhood's oriented vectors, a few times: a direction field that turns by more than
+    a right angle across a region — a fan — stays oriented alike along the turn."""
+    shape = inside.shape
+    sign = np.where(start, 1.0, -1.0)
+    cos, sin = np.cos(theta) * weight, np.sin(theta) * weight
+    for _ in range(passes):
+        vx = np.zeros(inside.size, np.float32)
+        vy = np.zeros(inside.size, np.float32)
+        vx[on], vy[on] = sign * cos, sign * sin
+        # the blur clips to [0, 1]: shift the signed components in and out
+        ax = _smooth_signed(vx.reshape(shape), ORIENT_RADIUS).ravel()[on]
+        ay = _smooth_signed(vy.reshape(shape), ORIENT_RADIUS).ravel()[on]
+        follow = ax * np.cos(theta) + ay * np.sin(theta)
+        sign = np.where(np.abs(follow) > 1e-6, np.sign(follow), sign)
+    return sign
+
+
+def _potential(fx: Array, fy: Array) -> Array:
+    """φ whose gradient is closest to the vector field (fx, fy) in least squares: the Poisson
+    equation ∇²φ = ∇·f solved spectrally on a grid twice the size (zero beyond: no wrap)."""
+    h, w = fx.shape
+    ky = 2.0 * np.pi * np.fft.fftfreq(2 * h)[:, None]
+    kx = 2.0 * np.pi * np.fft.rfftfreq(2 * w)[None, :]
+    gx = np.fft.rfft2(fx, (2 * h, 2 * w))
+    gy = np.fft.rfft2(fy, (2 * h, 2 * w))
+    k2 = kx * kx + ky * ky
+    k2[0, 0] = 1.0
+    phi = np.fft.irfft2(-1j * (kx * gx + ky * gy) / k2, (2 * h, 2 * w))
+    return phi[:h, :w].astype(np.float32)
+
+
+def furrow_phase(strength: Array, angle: Array, wavenumber: float,
+                 threshold: float = FURROW_THRESHOLD) -> tuple[Array, Array]:
+    """(H, W) radians: a smooth phase that advances ``wavenumber`` per texel along the wave
+    direction (across the furrows), so its valleys are few, long, parallel furrows that follow
+    the skin's direction of compression — bending where it bends, fanning where it fans — with
+    no breaks, rings or crossings. Per connected region of strength ≥ ``threshold``: the
+    directions (lines, ±) are oriented alike (against the region's mean direction), the phase
+    is the least-squares potential of that wave field, and it is shifted so that a furrow's
+    bottom lies where the region is compressed most: a band narrower than the spacing — a
+    nasolabial fold — gets one furrow along its middle. Also returns ``_straightness``."""
+    inside = strength >= threshold
+    labels = label_regions(inside)
+    if not inside.any():
+        return np.zeros(strength.shape, np.float32), np.ones(strength.shape, np.float32)
+    flat = labels.ravel()
+    on = np.flatnonzero(flat >= 0)
+    region = flat[on]
+    weight = strength.ravel()[on].astype(np.float64)
+    doubled = 2.0 * angle.ravel()[on].astype(np.float64)
+    _, which = np.unique(region, return_inverse=True)
+    mean_c = np.bincount(which, weight * np.cos(doubled))
+    mean_s = np.bincount(which, weight * np.sin(doubled))
+    reference = 0.5 * np.arctan2(mean_s, mean_c)[which]
+    theta = angle.ravel()[on].astype(np.float64)
+    sign = _oriented(inside, on, theta, weight, np.cos(theta - reference) >= 0.0)
+    gain = np.clip(strength.ravel()[on] / (3.0 * threshold), 0.0, 1.0)  # fade at the edges
+    fx = np.zeros(strength.size)
+    fy = np.zeros(strength.size)
+    fx[on] = wavenumber * sign * gain * np.cos(theta)
+    fy[on] = wavenumber * sign * gain * np.sin(theta)
+    phase = _potential(fx.reshape(strength.shape), fy.reshape(strength.shape))
+    # The potential of a field that stops at a region's edge is flatter than the field (most
+    # where the region is short across the furrows): each region's phase is scaled back to
+    # the wavenumber over its core, so the spacing is the one asked for.
+    slope = np.hypot(*np.gradient(phase)).ravel()[on]
+    core = gain >= 1.0
+    typical = np.bincount(which[core], slope[core], minlength=len(mean_c)) / np.maximum(
+        np.bincount(which[core], minlength=len(mean_c)), 1)
+    # a small region (an eye's corner) gets finer furrows, so it holds a few of them too
+    across = np.sqrt(np.bincount(which, minlength=len(mean_c)))  # texels, for its area
+    wanted = np.clip(2.0 * np.pi * FURROWS_ACROSS / np.maximum(across, 1.0), wavenumber,
+                     MAX_FINER * wavenumber)
+    scale = np.clip(wanted / np.maximum(typical, 1e-9), 1.0, MAX_FINER * MAX_PHASE_GAIN)
+    phase = phase.ravel()
+    # shift each region so that its most compressed texel lies at a furrow's bottom
+    order = np.lexsort((-weight, which))
+    first = np.r_[0, np.flatnonzero(np.diff(which[order])) + 1]
+    peak_phase = phase[on[order[first]]]
+    out = np.zeros(strength.size, np.float32)
+    out[on] = (phase[on] - peak_phase[which]) * scale[which]
+    return out.reshape(strength.shape), _straightness(angle, wavenumber)
+
+
+def _straightness(angle: Array, wavenumber: float) -> Array:
+    """(H, W) in [0, 1]: 0 where furrows would curl into rings tighter than ``RING_SPACINGS``
+    spacings across. A furrow's curvature is the turn of the wave direction θ along the furrow,
+    |t · ∇θ| with t = (−sin θ, cos θ): 1/r for rings of radius r around a point the skin is
+    squeezed toward, 0 for parallel lines and for a fan whose furrows radiate from a corner.
+    Measured on the doubled angle, so it needs no orientation; skin does not crease in small
+    rings."""
+    c = _smooth_signed(np.cos(2.0 * angle), ORIENT_RADIUS)
+    s = _smooth_signed(np.sin(2.0 * angle), ORIENT_RADIUS)
+    norm = np.maximum(c * c + s * s, 1e-6)
+    turn_x = (c * np.gradient(s, axis=1) - s * np.gradient(c, axis=1)) / norm
+    turn_y = (c * np.gradient(s, axis=0) - s * np.gradient(c, axis=0)) / norm
+    theta = 0.5 * np.arctan2(s, c)
+    curvature = 0.5 * np.abs(-np.sin(theta) * turn_x + np.cos(theta) * turn_y)
+    radius_in_spacings = wavenumber / (2.0 * np.pi * np.maximum(curvature, 1e-9))
+    straight = np.clip(radius_in_spacings / RING_SPACINGS - 1.0, 0.0, 1.0)
+    return np.where(norm > 0.01, straight, 0.0).astype(np.float32)  # no direction: no furrow
 
 
 def valley(phase: Array) -> Array:
@@ -240,32 +350,15 @@ def valley(phase: Array) -> Array:
     return ((1.0 + np.cos(phase)) * 0.5) ** SHARPNESS
 
 
-def furrow_depths(fields: Sequence[FurrowField], size: int, spacing: float, seed: int,
-                  progress: Progress | None = None, done: int = 0, total: int = 0,
-                  groups: Sequence[Sequence[int]] | None = None) -> Array | list[Array] | None:
-    """(size, size) max over poses of amount × valley(phase); None if ``progress`` stopped.
-    With ``groups`` (lists of field indices), one such image per group, from one pass over
-    the filter bank (its inverse FFTs are the cost)."""
-    needed = sorted(set().union(*(f.bins() for f in fields)))
-    bank = PhasorBank(size, spacing, seed) if needed else None
-    sums = [np.zeros(len(f.index), np.complex64) for f in fields]
-    for n, k in enumerate(needed):
-        z = bank.field(k)
-        for f, acc in zip(fields, sums, strict=True):
-            here = f.span(k)  # orientation k is their lower one
-            acc[here] += (1.0 - f.frac[here]) * z[f.index[here]]
-            # … and the upper one of k − 1's; 180° (past the last) is 0° with the wave vector
-            # turned, whose field is the conjugate
-            up = f.span((k - 1) % BINS)
-            acc[up] += f.frac[up] * (np.conj(z[f.index[up]]) if k == 0 else z[f.index[up]])
-        if progress is not None and not progress(done + n + 1, total):
-            return None
+def furrow_depths(fields: Sequence[FurrowField], size: int,
+                  groups: Sequence[Sequence[int]] | None = None) -> Array | list[Array]:
+    """(size, size) max over poses of amount × valley(phase). With ``groups`` (lists of field
+    indices), one such image per group."""
     images = []
     for group in (groups if groups is not None else [range(len(fields))]):
         depth = np.zeros(size * size, np.float32)
         for i in group:
-            f = fields[i]
-            np.maximum.at(depth, f.index, f.amount * valley(np.angle(sums[i])).astype(np.float32))
+            np.maximum.at(depth, fields[i].index, fields[i].depth())
         images.append(depth.reshape(size, size))
     return images if groups is not None else images[0]
 
@@ -309,7 +402,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
     fields = []
     for i, target in enumerate(targets):
         fields.append(furrow_field(uv_strain.of(target), ids, skin_tri, size, options.full_at,
-                                   smoothing))
+                                   smoothing, options.spacing))
         if progress is not None and not progress(i + 1, total or len(targets)):
             return None
     return fields
@@ -328,13 +421,10 @@ def synthesise_height(mesh: FaceMesh, targets: Sequence[Array], options: SynthOp
                       ) -> Array | None:
     """(size, size) float32 furrow height in texels (≤ 0) for these pose shapes; None if
     ``progress`` returned False."""
-    total = len(targets) + BINS
-    fields = furrow_fields(mesh, targets, options, skin, progress, total)
+    fields = furrow_fields(mesh, targets, options, skin, progress)
     if fields is None:
         return None
-    depth = furrow_depths(fields, options.size, options.spacing, options.seed, progress,
-                          len(targets), total)
-    return None if depth is None else (-options.depth * depth).astype(np.float32)
+    return (-options.depth * furrow_depths(fields, options.size)).astype(np.float32)
 
 
 class _GroupFurrows:
@@ -351,18 +441,14 @@ class _GroupFurrows:
         mine = f.amount > strong
         index = f.index[mine]
         theirs = self.amount[index] > strong
-        diff = np.abs(_degrees(f)[mine][theirs] - self.angle[index[theirs]]) % 180.0
+        diff = np.abs(f.angle[mine][theirs] - self.angle[index[theirs]]) % 180.0
         diff = np.minimum(diff, 180.0 - diff)
         return int((diff > CROSSING_ANGLE).sum())
 
     def add(self, f: FurrowField) -> None:
         stronger = f.amount > self.amount[f.index]
-        self.angle[f.index[stronger]] = _degrees(f)[stronger]
+        self.angle[f.index[stronger]] = f.angle[stronger]
         self.amount[f.index[stronger]] = f.amount[stronger]
-
-
-def _degrees(f: FurrowField) -> Array:
-    return ((f.lower + f.frac) * (180.0 / BINS)).astype(np.float32)
 
 
 def crossing_groups(fields: Sequence[FurrowField], most: int, size: int,
@@ -453,7 +539,8 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
 
 
 def fill_placeholder(project: Project, options: SynthOptions | None = None,
-                     progress: Progress | None = None) -> dict[str, list[str]] | None:
+                     progress: Progress | None = None, poses: Sequence[str] | None = None
+                     ) -> dict[str, list[str]] | None:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
     imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
     lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
@@ -465,21 +552,16 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
         return {}
     if options is None:
         options = face_options(project, _default_map_size(project))
-    names = [p.name for p in project.poses]
-    targets = [p.positions for p in project.poses]
-    total = len(targets) + BINS
-    fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress,
-                           total)
+    names = [p.name for p in project.poses] if poses is None else list(poses)
+    targets = [project.pose(name).positions for name in names]
+    fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress)
     if fields is None:
         return None
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
     groups = crossing_groups(fields, room, options.size)
     neutral = textures.normal_neutral
     made: dict[str, list[str]] = {}
-    depths = furrow_depths(fields, options.size, options.spacing, options.seed, progress,
-                           len(targets), total, groups)
-    if depths is None:
-        return None
+    depths = furrow_depths(fields, options.size, groups)
     for k, (group, depth) in enumerate(zip(groups, depths, strict=True)):
         normal = height_to_map((-options.depth * depth).astype(np.float32), neutral)
         map_name = name if k == 0 else unique_name(f"{name} {k + 1}", textures.wrinkle_maps)

@@ -573,8 +573,8 @@ class AreasPanel(QScrollArea):
         if not pose:
             return
         h, w = mask_edits.mask_shape(self.doc)
-        mask = mask_ops.auto_mask(self.doc.project.skin_mesh(), self.doc.project.pose(pose).positions,
-                                  w)
+        project = self.doc.project
+        mask = mask_ops.auto_mask(project.skin_mesh(), project.pose(pose).positions, w)
         if mask.shape != (h, w):
             mask = mask_ops.resample(mask, (w, h))
         if not mask.any():
