@@ -33,16 +33,21 @@ def parse_vertices(text: str) -> int:
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
     if not 100 <= n <= 200_000:
-        raise argparse.ArgumentTypeError(f"{n}: the sample face takes 100 to 200000 vertices")
+        raise argparse.ArgumentTypeError(f"{n}: the test face takes 100 to 200000 vertices")
     return n
 
 
 def load_project_or_sample(path: str | None, vertices: int | None):
-    """The project at ``path``, or the bundled sample face at the requested resolution."""
+    """The project at ``path``; without one the bundled sample (the ICT-FaceKit head), or with
+    ``vertices`` the procedural test face at that resolution (the thesis's study)."""
     if path is None:
-        from studio.core.project.sample import make_sample
+        if vertices:
+            from studio.core.project.sample import make_sample
 
-        return make_sample(vertices) if vertices else make_sample()
+            return make_sample(vertices)
+        from studio.core.setup.sample_setup import sample_project
+
+        return sample_project()
     from studio.core.project.reader import load_project
 
     if vertices:

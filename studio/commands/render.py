@@ -64,7 +64,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--pose", default="neutral", help="key pose to show (default: neutral)")
     p.add_argument("--weight", type=finite_float, default=1.0, help="weight of that pose, 0..1")
     p.add_argument("--size", type=parse_size, default=(1280, 720), help="WxH (default 1280x720)")
-    p.add_argument("--vertices", type=parse_vertices, help="resolution of the bundled sample")
+    p.add_argument("--vertices", type=parse_vertices,
+                   help="render the procedural test face (the thesis's study) at this many "
+                        "vertices instead of the bundled sample head")
     p.add_argument("--view", choices=DEBUG_VIEWS, default="shaded",
                    help="debug view (heat = wrinkle visibility)")
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")

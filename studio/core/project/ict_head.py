@@ -64,3 +64,4 @@ def load_ict_head(path: str | Path | None = None, poses: list[str] | None = None
     textures = FaceTextures(plain_diffuse(), flat_normal_map(), flat_normal_map())
     return Project("ICT-FaceKit head", packed, key_poses, textures, not_face=not_face,
                    uv_tiles=tiles)
+
