@@ -15,11 +15,13 @@ from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 
 SIZE = (360, 270)
+TEST_FACE = ("--vertices", "2172")  # the procedural test face, whose regions are known
 
 
 def render_png(tmp_path, *args: str) -> np.ndarray:
     out = tmp_path / f"{'_'.join(a.strip('-') for a in args)}.png"
-    assert main(["render", *args, "--size", f"{SIZE[0]}x{SIZE[1]}", "-o", str(out)]) == 0
+    size = f"{SIZE[0]}x{SIZE[1]}"
+    assert main(["render", *TEST_FACE, *args, "--size", size, "-o", str(out)]) == 0
     image = np.asarray(Image.open(out).convert("RGB"))
     assert image.shape == (SIZE[1], SIZE[0], 3)
     return image

@@ -11,6 +11,7 @@ from studio.cli import main
 from studio.core.project.sample import make_sample
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
+from tests.test_cli import TEST_FACE
 
 SIZE = (240, 180)
 
@@ -23,7 +24,7 @@ def marks():
 
 def render(tmp_path, technique: str, frames: str, name: str) -> list:
     pattern = tmp_path / name / "frame_%04d.png"
-    assert main(["render", "--technique", technique, "--frames", frames, "--size",
+    assert main(["render", *TEST_FACE, "--technique", technique, "--frames", frames, "--size",
                  f"{SIZE[0]}x{SIZE[1]}", "-o", str(pattern)]) == 0
     return sorted((tmp_path / name).iterdir())
 
@@ -56,8 +57,8 @@ def test_frames_0_12_4_are_three_numbered_pngs_where_the_wrinkles_rise(tmp_path,
 def test_gif_has_one_frame_per_rendered_frame(tmp_path, capsys):
     out = tmp_path / "anim" / "surprise.gif"
     # the surprise rises from frame 72 to 84: every rendered frame differs
-    assert main(["render", "--technique", "t2", "--frames", "72:85:4", "--size", "120x90",
-                 "--gif", str(out)]) == 0
+    assert main(["render", *TEST_FACE, "--technique", "t2", "--frames", "72:85:4", "--size",
+                 "120x90", "--gif", str(out)]) == 0
     with Image.open(out) as gif:
         assert gif.n_frames == 4
         assert gif.is_animated
@@ -77,7 +78,7 @@ def test_gif_has_one_frame_per_rendered_frame(tmp_path, capsys):
 def test_bad_frame_ranges_and_outputs_are_one_line_and_exit_2(tmp_path, capsys, args, needle):
     args = [a.replace("OUT", str(tmp_path)) for a in args]
     with pytest.raises(SystemExit) as exit_info:
-        raise SystemExit(main(["render", *args, "--size", "64x48"]))
+        raise SystemExit(main(["render", *TEST_FACE, *args, "--size", "64x48"]))
     assert exit_info.value.code == 2
     err = capsys.readouterr().err
     assert needle in err and len(err.strip().splitlines()) == 1
@@ -102,7 +103,7 @@ def test_video_without_imageio_ffmpeg_is_one_line(tmp_path, capsys, monkeypatch)
     import studio.commands.render as render_command
 
     monkeypatch.setattr(render_command, "video_available", lambda: False)  # as if missing
-    assert main(["render", "--video", str(tmp_path / "a.mp4"), "--size", "64x48"]) == 2
+    assert main(["render", *TEST_FACE, "--video", str(tmp_path / "a.mp4"), "--size", "64x48"]) == 2
     err = capsys.readouterr().err.strip()
     assert "imageio-ffmpeg" in err and len(err.splitlines()) == 1
 
@@ -113,7 +114,7 @@ def test_mp4_export_has_every_frame_at_its_size_and_decodes(tmp_path, capsys):
     import imageio_ffmpeg
 
     out = tmp_path / "surprise.mp4"
-    assert main(["render", "--technique", "t2", "--frames", "24:48", "--size", "96x64",
+    assert main(["render", *TEST_FACE, "--technique", "t2", "--frames", "24:48", "--size", "96x64",
                  "--video", str(out)]) == 0
     assert "frames" in capsys.readouterr().out
     reader = imageio_ffmpeg.read_frames(str(out))
