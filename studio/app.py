@@ -10,15 +10,19 @@ from PySide6.QtGui import QSurfaceFormat
 
 
 def configure_opengl() -> None:
-    """OpenGL 3.3 core with a depth buffer; must run before the QApplication exists.
+    """The highest OpenGL core version the driver offers (3.3 at least) with a depth buffer;
+    must run before the QApplication exists. Asked for 3.3, NVIDIA's drivers give exactly 3.3
+    and no tessellation; so a throwaway standalone context finds the highest first.
 
     On X11, Qt is asked for EGL rather than GLX: the command line's and the exporter's
     standalone contexts are EGL, and GLX and EGL contexts in one process break Qt's.
     """
     if sys.platform.startswith("linux"):
         os.environ.setdefault("QT_XCB_GL_INTEGRATION", "xcb_egl")
+    from studio.render.gl_info import highest_gl_version
+
     fmt = QSurfaceFormat()
-    fmt.setVersion(3, 3)
+    fmt.setVersion(*highest_gl_version())
     fmt.setProfile(QSurfaceFormat.OpenGLContextProfile.CoreProfile)
     fmt.setDepthBufferSize(24)
     fmt.setSamples(0)  # the viewport multisamples its own framebuffer: the user's choice, live

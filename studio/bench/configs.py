@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME
 
 THESIS_VERTICES = tuple(range(561, 5152, 510))  # 561, 1071, …, 5151 (Tables 5.3/5.4)
 THESIS_AREAS = (1, 2, 4, 8, 12, 16)  # Table 5.2, on the 2172-vertex model
@@ -30,20 +32,35 @@ class Config:
     relief: str = "off"  # off | displace | parallax (RenderSettings.relief)
     draw: str = "split"  # split: plain shading where no wrinkle can show | whole: no split
     poses: int = 0  # 0: the sample's poses in turn | N: N ARKit poses all moving every frame
+    frame: str = DEFAULT_TANGENT_FRAME  # the tangent frame recomputed as the face moves
+    still: bool = False  # the neutral face held: no deformation at all (the floor of a frame)
 
     @property
     def label(self) -> str:
         extra = f", {self.areas} areas" if self.technique == "t1" else ""
         relief = f"+{self.relief}" if self.relief != "off" else ""
         whole = " whole" if self.draw == "whole" else ""
-        moving = f", {self.poses} poses moving" if self.poses else ""
-        return f"{self.technique}{relief}{whole}{extra}{moving}, {self.vertices} vertices"
+        moving = f", {self.poses} poses moving" if self.poses else ", still" if self.still else ""
+        frame = f", {self.frame} frame" if self.frame != DEFAULT_TANGENT_FRAME else ""
+        return f"{self.technique}{relief}{whole}{extra}{moving}{frame}, {self.vertices} vertices"
+
+
+def reproduces_thesis(config: Config) -> bool:
+    """Whether ``config`` is one of the thesis's own measurements (Tables 5.2–5.4): those are
+    timed in the thesis's tangent frame too, beside the studio's default."""
+    if config.relief != "off" or config.draw != "split" or config.poses or config.still:
+        return False
+    if config.technique == "t1" and config.vertices == AREA_MODEL:
+        return config.areas in THESIS_AREAS
+    return (config.technique in ("t1", "t2") and config.vertices in THESIS_VERTICES
+            and (config.technique == "t2" or config.areas == COMPARISON_AREAS))
 
 
 def configurations(quick: bool = False, poses: int = 0) -> list[Config]:
-    """Every configuration, grouped by mesh so each mesh is built once; with ``poses``, also a
-    capture take's case (that many poses, all changing every frame) on the large face, beside
-    the plain shading of the same face."""
+    """Every configuration in the studio's default tangent frame, those of the thesis also in
+    its own frame, grouped by mesh so each mesh is built once; with ``poses``, also a capture
+    take's case (that many poses, all changing every frame) on the large face, shaded plainly
+    and by the strain mode, beside the same face held still."""
     if quick:
         by_areas, by_vertices = (1, 16, 64), (561, 2172)
     else:
@@ -59,8 +76,10 @@ def configurations(quick: bool = False, poses: int = 0) -> list[Config]:
                         for t, relief in RELIEF_CONFIGS]
             configs += [Config("t2", 0, v, draw="whole")]
             configs += [Config("t1", a, v, draw="whole") for a in by_areas]
+    configs = [c for config in configs
+               for c in (config, replace(config, frame="thesis"))[:1 + reproduces_thesis(config)]]
     if poses:
-        if POSES_VERTICES not in by_vertices:
-            configs.append(Config("none", 0, POSES_VERTICES))
-        configs.append(Config("none", 0, POSES_VERTICES, poses=poses))
+        configs += [Config("none", 0, POSES_VERTICES, still=True),
+                    Config("none", 0, POSES_VERTICES, poses=poses),
+                    Config("strain", 0, POSES_VERTICES, poses=poses)]
     return configs

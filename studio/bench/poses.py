@@ -55,6 +55,8 @@ def bench_project(config: Config) -> Project:
 
 
 def bench_animation(project: Project, config: Config) -> Timeline:
-    """The animation ``config`` is timed over."""
+    """The animation ``config`` is timed over (a still face: none, the neutral pose held)."""
+    if config.still:
+        return Timeline(fps=24.0, end=24)
     names = [p.name for p in project.poses]
     return capture_animation(names) if config.poses else sequence_all_poses(names, fps=24.0)

@@ -15,19 +15,20 @@ from studio.bench.configs import (
     THESIS_T1_BY_AREAS,
 )
 from studio.bench.runner import Result
+from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses", "frame", "cpu_ms"]
 
 
 def table(results: Sequence[Result]) -> str:
-    lines = [f"{'configuration':<38}{'ms':>9}{'fps':>9}{'min':>9}{'max':>9}{'std':>8}"
-             f"{'deform ms':>11}"]
+    lines = [f"{'configuration':<50}{'ms':>9}{'fps':>9}{'min':>9}{'max':>9}{'std':>8}"
+             f"{'cpu ms':>9}{'deform ms':>11}"]
     for r in results:
         row = r.row()
-        lines.append(f"{r.config.label:<38}{row['mean_ms']:>9.2f}{row['fps_mean']:>9.1f}"
+        lines.append(f"{r.config.label:<50}{row['mean_ms']:>9.2f}{row['fps_mean']:>9.1f}"
                      f"{row['fps_min']:>9.1f}{row['fps_max']:>9.1f}{row['fps_std']:>8.1f}"
-                     f"{row['deform_ms']:>11.2f}")
+                     f"{row['cpu_ms']:>9.2f}{row['deform_ms']:>11.2f}")
     return "\n".join(lines)
 
 
@@ -116,8 +117,9 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
 
 
 def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
-    # reliefs and the many-poses case: in the table only
-    results = [r for r in results if r.config.relief == "off" and not r.config.poses]
+    # reliefs, the many-poses and still cases and the thesis's tangent frame: in the table only
+    results = [r for r in results if r.config.relief == "off" and not r.config.poses
+               and not r.config.still and r.config.frame == DEFAULT_TANGENT_FRAME]
     whole = [r for r in results if r.config.draw == "whole"]
     results = [r for r in results if r.config.draw == "split"]
     by_areas = {"ours: t1": [(r.config.areas, float(r.fps.mean())) for r in results

@@ -6,9 +6,13 @@ import argparse
 import platform
 from itertools import groupby
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from studio.commands.options import parse_size
 from studio.core.files.errors import StudioError
+
+if TYPE_CHECKING:
+    from studio.bench.configs import Config
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -41,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     from studio.bench.poses import bench_project
     from studio.bench.report import table, write_csv, write_plots
     from studio.bench.runner import PASSES, time_configurations
-    from studio.render.offscreen import create_standalone_context
+    from studio.render.gl_info import create_standalone_context, describe_gl
 
     frames = min(args.frames, 20) if args.quick else args.frames
     if frames < 1:
@@ -52,22 +56,28 @@ def run(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise StudioError(f"cannot create the results folder: {exc.strerror}", out) from None
     ctx = create_standalone_context()
+    print(describe_gl(ctx), flush=True)
     print(f"machine: {platform.machine()}, {platform.processor() or platform.system()}, "
           f"Python {platform.python_version()}")
-    print(f"GL renderer: {ctx.info['GL_RENDERER']} ({ctx.info['GL_VERSION']})")
     print(f"{frames} frames per configuration at {args.size[0]}x{args.size[1]}, in "
           f"{PASSES} turns round each face's configurations")
     results = []
+
+    def skipped(config: Config, reason: str) -> None:
+        print(f"skipped {config.label}: {reason}", flush=True)
+
     for vertices, group in groupby(configurations(args.quick, args.poses),
                                    key=lambda c: c.vertices):
         group = list(group)
         print(f"timing {len(group)} configurations on the {vertices}-vertex face …", flush=True)
         projects = [bench_project(c) for c in group]
-        results += time_configurations(ctx, projects, group, frames, args.size)
-        print("\n".join(table(results[-len(group):]).splitlines()[1:]), flush=True)
+        timed = time_configurations(ctx, projects, group, frames, args.size, skipped=skipped)
+        results += timed
+        if timed:
+            print("\n".join(table(timed).splitlines()[1:]), flush=True)
+        write_csv(results, out / "results.csv")  # a later failure keeps what was timed
     print()
     print(table(results))
-    write_csv(results, out / "results.csv")
     plots = write_plots(results, out)
     print(f"wrote {out / 'results.csv'}, {', '.join(str(p) for p in plots)}")
     ctx.release()

@@ -7,28 +7,15 @@ from collections.abc import Mapping
 import moderngl
 import numpy as np
 
-from studio.core.files.errors import RenderError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.project.model import Project
 from studio.core.setup.face_frame import aim
+from studio.render.gl_info import create_standalone_context
 from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
 from studio.render.settings import RenderSettings
 
-
-def create_standalone_context() -> moderngl.Context:
-    """An OpenGL 3.3+ context with no display (EGL; Mesa's llvmpipe on a machine without GPU)."""
-    errors = []
-    for kwargs in ({"backend": "egl"}, {}):
-        try:
-            ctx = moderngl.create_standalone_context(require=330, **kwargs)
-        except Exception as exc:  # the GL loaders raise plain Exception subclasses
-            errors.append(str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc))
-            continue
-        return ctx
-    raise RenderError("cannot create an OpenGL 3.3 context without a display "
-                      f"(is Mesa's EGL installed? libegl1 libegl-mesa0 libgl1-mesa-dri): "
-                      f"{'; '.join(errors)}")
+__all__ = ["OffscreenStudio", "OffscreenTarget", "create_standalone_context", "default_camera"]
 
 
 class OffscreenTarget:

@@ -18,6 +18,7 @@ from studio.core.wrinkles.wdv import WdvSlots
 from studio.render.deform_pass import DeformPass
 from studio.render.face_maps import FaceMaps
 from studio.render.face_pass import FacePass
+from studio.render.gl_info import gl_version
 from studio.render.programs import Programs
 from studio.render.relief_pass import ReliefPass
 from studio.render.settings import RenderSettings
@@ -122,9 +123,8 @@ class FaceRenderer:
             raise RuntimeError("FaceRenderer.render called before set_mesh")
         relief = settings.active_relief
         if relief == "displace" and not self.can_displace:
-            v = self.ctx.version_code
             raise RenderError(f"relief 'displace' needs OpenGL 4.0 (tessellation shaders); "
-                              f"this driver offers {v // 100}.{v % 100 // 10}; use relief "
+                              f"this driver offers {gl_version(self.ctx)}; use relief "
                               "'parallax' instead")
         # the passes before the draw, each doing nothing unless its inputs changed
         if relief != "off":

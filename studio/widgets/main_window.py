@@ -17,9 +17,9 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from studio import __version__
 from studio.core.files.errors import Cancelled, StudioError
 from studio.core.project.model import Project
+from studio.widgets.about import show_about
 from studio.widgets.app_settings import settings
 from studio.widgets.autosave import install_autosave
 from studio.widgets.background import run_with_progress
@@ -239,13 +239,7 @@ class MainWindow(QMainWindow):
         QMessageBox.critical(self, title, str(error))
 
     def show_about(self) -> None:
-        QMessageBox.about(
-            self, "About Wrinkle Studio",
-            f"<h3>Wrinkle Studio {__version__}</h3>"
-            "<p>Author and preview real-time facial expression wrinkles.</p>"
-            "<p>Implements the two GPU techniques of C. D. G. Reis, <i>Animação em tempo real de "
-            "rugas faciais explorando as modernas GPUs</i> (UNICAMP, 2010): influence areas with "
-            "an activation vector, and wrinkle direction vectors.</p>")
+        show_about(self, self.viewport.gl_description)
 
     def show_navigation_help(self) -> None:
         QMessageBox.information(

@@ -20,6 +20,7 @@ from PySide6.QtWidgets import QLabel, QWidget
 
 from studio.core.files.errors import RenderError
 from studio.core.wrinkles.techniques import SPLIT, TECHNIQUES
+from studio.render.gl_info import describe_gl, gl_version
 from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
 from studio.render.settings import render_settings
@@ -48,8 +49,7 @@ def attach_to_current_context() -> moderngl.Context:
         raise RenderError(f"OpenGL is not available, so the viewport cannot draw ({exc}). "
                           "Update the graphics driver (or install Mesa).") from None
     if ctx.version_code < 330:
-        raise RenderError(f"the viewport needs OpenGL 3.3; this driver offers "
-                          f"{ctx.version_code // 100}.{ctx.version_code % 100 // 10}")
+        raise RenderError(f"the viewport needs OpenGL 3.3; this driver offers {gl_version(ctx)}")
     return ctx
 
 
@@ -61,6 +61,7 @@ class Viewport(QOpenGLWidget):
         super().__init__(parent)
         self.doc = document
         self.ctx: moderngl.Context | None = None
+        self.gl_description: str | None = None  # the OpenGL in use (describe_gl), once up
         self.scene: ProjectScene | None = None
         self.tool = None  # an authoring tool: press/move/release(viewport, event) on left button
         # drawn after the face each frame: objects with draw(ctx, fbo, camera, viewport_rect)
@@ -120,8 +121,16 @@ class Viewport(QOpenGLWidget):
             self.glFailed.emit(str(exc))
             return
         self.renderer = FaceRenderer(self.ctx)
+        self.gl_description = describe_gl(self.ctx)
         self._pending = {"project"}
         self._update_labels()
+        self.show_status(self.gl_description, 8000)
+
+    def show_status(self, text: str, ms: int = 0) -> None:
+        """A message in the window's status bar (the viewport alone in a test: nowhere)."""
+        bar = getattr(self.window(), "statusBar", None)
+        if bar is not None:
+            QTimer.singleShot(0, lambda: bar().showMessage(text, ms))
 
     def _apply_pending(self) -> None:
         pending = self._pending
@@ -222,9 +231,8 @@ class Viewport(QOpenGLWidget):
             return relief
         if not self._relief_refused:
             self._relief_refused = True
-            v = self.ctx.version_code
             message = (f"Displacement needs OpenGL 4.0 (tessellation shaders); this driver "
-                       f"offers {v // 100}.{v % 100 // 10}. Showing parallax relief instead.")
+                       f"offers {gl_version(self.ctx)}. Showing parallax relief instead.")
             QTimer.singleShot(0, lambda: (self.doc.set_view(relief="parallax"),
                                           self.glFailed.emit(message)))
         return "parallax"

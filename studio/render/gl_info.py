@@ -1,0 +1,56 @@
+"""Which OpenGL the studio draws with: the highest core context the driver offers, and how it
+is named to the user (features beyond 3.3, such as tessellation, are enabled by it)."""
+
+from __future__ import annotations
+
+import moderngl
+
+from studio.core.files.errors import RenderError
+
+#: Core-profile versions asked for, highest first. NVIDIA's drivers answer exactly the version
+#: asked for (3.3 when asked for 3.3, although they offer 4.6), Mesa the highest it has; so the
+#: highest is asked for first, and each lower one in turn where the driver refuses it.
+GL_VERSIONS = (460, 450, 440, 430, 420, 410, 400, 330)
+
+
+def create_standalone_context() -> moderngl.Context:
+    """The highest OpenGL core context (4.6 down to 3.3) the driver offers, with no display
+    (EGL; Mesa's llvmpipe on a machine without GPU)."""
+    errors = []
+    for kwargs in ({"backend": "egl"}, {}):
+        refused: Exception | None = None
+        for version in GL_VERSIONS:
+            try:
+                return moderngl.create_standalone_context(require=version, **kwargs)
+            except Exception as exc:  # the GL loaders raise plain Exception subclasses
+                refused = exc
+        text = str(refused).strip()
+        errors.append(text.splitlines()[0] if text else repr(refused))
+    raise RenderError("cannot create an OpenGL 3.3 context without a display "
+                      f"(is Mesa's EGL installed? libegl1 libegl-mesa0 libgl1-mesa-dri): "
+                      f"{'; '.join(errors)}")
+
+
+def gl_version(ctx: moderngl.Context) -> str:
+    """``"4.5"``: the OpenGL version of a context, as features are gated on it."""
+    return f"{ctx.version_code // 100}.{ctx.version_code % 100 // 10}"
+
+
+def describe_gl(ctx: moderngl.Context) -> str:
+    """One line naming the OpenGL in use: version, renderer and the driver's own version text
+    (what ``bench`` prints first, and Help ▸ About and the status bar show)."""
+    info = ctx.info
+    return (f"OpenGL {gl_version(ctx)} core, {info.get('GL_RENDERER', '?')} "
+            f"({info.get('GL_VERSION', '?')})")
+
+
+def highest_gl_version() -> tuple[int, int]:
+    """The highest core version a context of this driver gets, found with a throwaway
+    standalone context; (3, 3) where none can be made (the viewport then says why)."""
+    try:
+        ctx = create_standalone_context()
+    except RenderError:
+        return (3, 3)
+    code = ctx.version_code
+    ctx.release()
+    return (code // 100, code % 100 // 10)
