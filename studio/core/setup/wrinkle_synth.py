@@ -62,7 +62,7 @@ FURROWS_EACH_SIDE = 4.0  # of the deepest furrow, before the others fade to a th
 FURROWS_ACROSS = 4.0  # a region at least this many furrows across, …
 MAX_FINER = 2.0  # … spacing them up to this much closer than the face's spacing
 RING_SPACINGS = 2.0  # furrows curling tighter than rings this many spacings across are dropped
-ORIENT_PASSES = 12  # neighbourhood votes that orient a region's wave vectors alike …
+ORIENT_PASSES = 4  # neighbourhood votes that orient a region's wave vectors alike …
 ORIENT_RADIUS = 6.0  # … over about this many work texels
 FURROW_THRESHOLD = 0.08  # furrows where a pose's strength is at least this, fading in above it
 MAX_PHASE_GAIN = 4.0  # at most this much steeper than the potential of a region's wave field
@@ -149,12 +149,13 @@ class FurrowField:
     phase: Array  # (n,) radians: a furrow's bottom wherever it is a multiple of 2π
 
     def depth(self) -> Array:
-        """Each texel's furrow depth in [0, 1]: its amount times the valley profile, deepest
+        """Each texel's furrow depth in [0, 1]: the square root of its amount (furrows keep
+        their depth until near their ends) times the valley profile, deepest
         at the most compressed furrow and shallower the further a furrow lies from it (by
         ``FURROWS_EACH_SIDE`` furrows, a third as deep): a few furrows, one leading."""
         reach = np.float32(2.0 * np.pi * FURROWS_EACH_SIDE)
         falloff = np.exp(-(self.phase / reach) ** 2)
-        return (self.amount * falloff * valley(self.phase)).astype(np.float32)
+        return (np.sqrt(self.amount) * falloff * valley(self.phase)).astype(np.float32)
 
 
 def pose_full_at(compression: Array, full_at: float) -> float:
