@@ -146,7 +146,12 @@ def test_the_map_tilts_along_x_in_the_squeezed_half_and_keeps_the_neutral_elsewh
     result = synth.synthesise_wrinkle_map(project, ["squeeze", "shift"], OPTIONS)
     normal = result.normal
     assert normal.shape == (SIZE, SIZE, 3) and normal.dtype == np.uint8
-    untouched = result.height == 0.0
+    # texels more than a texel from any furrow keep the neutral map exactly (the normals are
+    # central differences of the height, so a furrow's edge tilts its neighbours too)
+    near = np.pad(result.height != 0.0, 1)
+    near = near[:-2, 1:-1] | near[2:, 1:-1] | near[1:-1, :-2] | near[1:-1, 2:] | near[1:-1, 1:-1]
+    untouched = ~near
+    assert untouched.mean() > 0.35  # the right half and more: only the left is squeezed
     assert np.array_equal(normal[untouched], neutral[untouched])
     furrows = result.height < -0.2
     change = np.abs(normal[furrows].astype(int) - neutral[furrows])

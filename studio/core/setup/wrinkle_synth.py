@@ -149,13 +149,15 @@ class FurrowField:
     phase: Array  # (n,) radians: a furrow's bottom wherever it is a multiple of 2π
 
     def depth(self) -> Array:
-        """Each texel's furrow depth in [0, 1]: the square root of its amount (furrows keep
-        their depth until near their ends) times the valley profile, deepest
+        """Each texel's furrow depth in [0, 1]: its amount eased out (a·(2 − a): furrows keep
+        their depth until near their ends, and still fade to nothing) times the valley profile,
+        deepest
         at the most compressed furrow and shallower the further a furrow lies from it (by
         ``FURROWS_EACH_SIDE`` furrows, a third as deep): a few furrows, one leading."""
         reach = np.float32(2.0 * np.pi * FURROWS_EACH_SIDE)
         falloff = np.exp(-(self.phase / reach) ** 2)
-        return (np.sqrt(self.amount) * falloff * valley(self.phase)).astype(np.float32)
+        eased = self.amount * (2.0 - self.amount)
+        return (eased * falloff * valley(self.phase)).astype(np.float32)
 
 
 def pose_full_at(compression: Array, full_at: float) -> float:
