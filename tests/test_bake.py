@@ -377,3 +377,23 @@ def test_cli_bakes_into_the_project_and_a_png(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and "elsewhere.obj" in err and "UV layout differs" in err
     assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.core
+def test_where_an_eye_overlaps_the_skin_in_uv_the_skin_is_baked(high):
+    """An eye shell (a quad in front of the face, drawn after it, its UVs turned a quarter)
+    covers the left half of the skin's UV square: with the skin's triangles named, the skin
+    owns those texels and gets the sculpt's normals there as elsewhere; without, the eye takes
+    them, in its own tangent frame."""
+    face = grid(2)
+    eye_rest = np.array([[0.0, 0.0, 0.3], [0.5, 0.0, 0.3], [0.5, 1.0, 0.3], [0.0, 1.0, 0.3]])
+    eye_uvs = np.array([[0.5, 0.0], [0.5, 1.0], [0.0, 1.0], [0.0, 0.0]])  # turned: own frame
+    low = FaceMesh(np.r_[face.rest, eye_rest], np.r_[face.triangles, [[4, 5, 6], [4, 6, 7]]],
+                   np.r_[face.uvs, eye_uvs], np.arange(8))
+    skin = np.array([True, True, False, False])
+    expected = analytic_normals(SIZE)
+    left = (slice(None), slice(2, SIZE // 2 - 2))
+    baked = bake_normal_map(low, high, SIZE, max_distance=0.1, skin=skin)
+    assert angles(baked.normals[left], expected[left]).max() < 0.5
+    taken = bake_normal_map(low, high, SIZE, max_distance=0.1)
+    assert angles(taken.normals[left], expected[left]).max() > 10.0

@@ -64,7 +64,8 @@ def run(args: argparse.Namespace) -> int:
     distance = default_max_distance(project.mesh) if args.distance is None else args.distance
     result = bake_normal_map(project.mesh, load_mesh(args.high), args.size or current.shape[1],
                              distance, bits=16 if current.dtype.itemsize == 2 else 8,
-                             tangent_frame=saved_view(project.view).tangent_frame)
+                             tangent_frame=saved_view(project.view).tangent_frame,
+                             skin=project.skin_triangles())
     check_hits(result, project.mesh, distance, args.high)
     textures.set_wrinkle_map(name, result.image)
     if args.png:

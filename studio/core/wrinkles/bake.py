@@ -78,14 +78,17 @@ Progress = Callable[[float], None]
 def bake_normal_map(low: FaceMesh, high: FaceMesh, size: int, max_distance: float, *,
                     bits: int = 8, padding: int = 4, progress: Progress | None = None,
                     cancelled: Callable[[], bool] | None = None,
-                    tangent_frame: str = DEFAULT_TANGENT_FRAME) -> BakeResult:
+                    tangent_frame: str = DEFAULT_TANGENT_FRAME,
+                    skin: Array | None = None) -> BakeResult:
     """The wrinkled normal map of ``high`` as seen from ``low`` (both in their rest pose).
 
     ``max_distance`` is in model units, along the face's normals both ways. ``progress`` gets
     the done fraction 0..1 now and then; ``cancelled`` is polled between chunks and raises
     ``BakeCancelled`` when it returns True. ``tangent_frame`` is the frame the renderer reads
     the map in (studio.core.mesh.tangent_frames): a map baked in another frame shades wrong.
-    Raises ``MeshError`` when the UV layouts differ.
+    ``skin``: per triangle of ``low``, the skin's (``Project.skin_triangles``), which own the
+    texels where eyes or teeth overlap them in UV. Raises ``MeshError`` when the UV layouts
+    differ.
     """
     if bits not in (8, 16):
         raise ValueError(f"bits must be 8 or 16, got {bits}")
@@ -99,7 +102,7 @@ def bake_normal_map(low: FaceMesh, high: FaceMesh, size: int, max_distance: floa
 
     check_same_uvs(low, high)
     report(0.02)
-    ids = _triangle_ids(low, size)
+    ids = _triangle_ids(low, size, skin)
     rows, cols = np.nonzero(ids >= 0)
     frames = _TexelFrames(low, tangent_frame)
     check()
@@ -202,18 +205,25 @@ def _barycentric(mesh: FaceMesh, tri: Array, rows: Array, cols: Array, size: int
     return bary / bary.sum(axis=1, keepdims=True)
 
 
-def _triangle_ids(mesh: FaceMesh, size: int) -> Array:
+def _triangle_ids(mesh: FaceMesh, size: int, first: Array | None = None) -> Array:
     """(size, size) index of the triangle covering each texel centre, −1 where none does.
+    Where triangles overlap in UV, one of ``first`` (a per-triangle bool: the skin's) owns the
+    texel: eyes and teeth often share the skin's tile, and the skin is what wrinkles.
 
     ``rasterise_uv`` interpolates per-vertex values; giving each triangle its own three
     corners, all valued with its index, makes the interpolation return that index.
     """
-    uvs = mesh.uvs[mesh.triangles].reshape(-1, 2)
-    corners = np.arange(len(uvs)).reshape(-1, 3)
-    index = np.repeat(np.arange(mesh.n_triangles, dtype=np.float64), 3)
-    image, covered = rasterise_uv(uvs, corners, index, size)
-    ids = np.rint(image).astype(np.intp)
-    ids[~covered] = -1
+    ids = np.full((size, size), -1, np.intp)
+    groups = [np.arange(mesh.n_triangles)] if first is None else [
+        np.flatnonzero(~first), np.flatnonzero(first)]  # the later group wins overlaps
+    for chosen in groups:
+        if not len(chosen):
+            continue
+        uvs = mesh.uvs[mesh.triangles[chosen]].reshape(-1, 2)
+        corners = np.arange(len(uvs)).reshape(-1, 3)
+        index = np.repeat(chosen.astype(np.float64), 3)
+        image, covered = rasterise_uv(uvs, corners, index, size)
+        ids[covered] = np.rint(image[covered]).astype(np.intp)
     return ids
 
 

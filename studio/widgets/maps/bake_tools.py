@@ -112,10 +112,11 @@ class BakeWorker(QThread):
     stopped = Signal()  # cancelled
 
     def __init__(self, low: FaceMesh, path: Path, size: int, distance: float, bits: int,
-                 tangent_frame: str) -> None:
+                 tangent_frame: str, skin: np.ndarray | None = None) -> None:
         super().__init__()
         self.low, self.path, self.size, self.distance, self.bits = low, path, size, distance, bits
         self.tangent_frame = tangent_frame  # the frame the viewport reads the map in
+        self.skin = skin  # per triangle: the skin's own the texels eyes overlap in UV
         self._cancel = threading.Event()
 
     def cancel(self) -> None:
@@ -127,7 +128,8 @@ class BakeWorker(QThread):
             result = bake_normal_map(
                 self.low, high, self.size, self.distance, bits=self.bits,
                 progress=lambda done: self.progressed.emit(round(done * 1000)),
-                cancelled=self._cancel.is_set, tangent_frame=self.tangent_frame)
+                cancelled=self._cancel.is_set, tangent_frame=self.tangent_frame,
+                skin=self.skin)
         except BakeCancelled:
             self.stopped.emit()
         except StudioError as exc:
@@ -178,7 +180,7 @@ class BakeTools(QObject):
         key = key or WRINKLED + project.textures.wrinkle_map_names[0]
         bits = 16 if get_map(project.textures, key).dtype == np.uint16 else 8
         worker = BakeWorker(project.mesh, Path(path), size, distance, bits,
-                            self.doc.view.tangent_frame)
+                            self.doc.view.tangent_frame, project.skin_triangles())
         progress = QProgressDialog(f"Baking {Path(path).name} into a {size} × {size} wrinkled "
                                    "normal map…", "Cancel", 0, 1000, self.window)
         progress.setWindowTitle("Bake Wrinkled Normal Map")
