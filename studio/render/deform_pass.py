@@ -11,15 +11,18 @@ import time
 import moderngl
 import numpy as np
 
+from studio.core.mesh.draw_split import moved
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
+from studio.core.wrinkles.strain import StrainField
 
 ATTRIBUTES = "3f 3f 4f"  # position, normal, tangent (w: handedness) per render vertex
 NAMES = ("in_position", "in_normal", "in_tangent")
 
 
 class DeformPass:
-    """Welded positions of the current pose, and their upload as vertex attributes."""
+    """Welded positions of the current pose, and their upload as vertex attributes: the numpy
+    reference path (gpu_deform.GpuDeformPass does the same on the GPU)."""
 
     def __init__(self, ctx: moderngl.Context, mesh: FaceMesh) -> None:
         self.mesh = mesh
@@ -29,6 +32,7 @@ class DeformPass:
         self.version = 0  # counts pose changes: what per-pose caches of other passes key on
         self.dirty = True
         self.last_ms = 0.0  # CPU time of the last normals + tangents update
+        self._strain_field: StrainField | None = None  # the strain mode's edges (on first use)
 
     @property
     def frame(self) -> str:
@@ -55,6 +59,25 @@ class DeformPass:
         if hi > lo:
             self.buffer.write(attributes[lo:hi], offset=lo * attributes.strides[0])
         self.dirty = False
+
+    @property
+    def motion_key(self) -> object:
+        """Changes whenever the vertices that moved may have: every pose change."""
+        return self.version
+
+    def moved_welded(self) -> np.ndarray:
+        """(W,) bool: the vertices away from the neutral pose."""
+        return moved(self.positions, self.mesh.rest)
+
+    def write_strain(self, target: moderngl.Buffer, full_at: float) -> tuple[object, np.ndarray]:
+        """The strain weights of this pose into ``target`` (per render vertex); returns the
+        key they hold for and the weights, for the split draw."""
+        if self._strain_field is None:
+            self._strain_field = StrainField(self.mesh)
+        weights = self._strain_field.weights(self.positions, full_at)
+        render = weights[self.mesh.weld].astype("f4")
+        target.write(render.tobytes())
+        return (self.version, full_at), render
 
     def release(self) -> None:
         self.buffer.release()

@@ -12,9 +12,7 @@ from typing import TYPE_CHECKING
 import moderngl
 import numpy as np
 
-from studio.core.mesh.draw_split import moved
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.wrinkles.strain import StrainField
 from studio.core.wrinkles.wdv import SLOTS, WdvSlots
 from studio.render import deform_pass
 from studio.render.programs import UNITS, Programs, set_uniforms, write_matrix
@@ -24,6 +22,7 @@ from studio.render.triangle_split import TriangleSplit
 if TYPE_CHECKING:
     from studio.render.deform_pass import DeformPass
     from studio.render.face_maps import FaceMaps
+    from studio.render.gpu_deform import GpuDeformPass
     from studio.render.relief_pass import ReliefPass
     from studio.render.settings import RenderSettings
     from studio.render.t1_pass import T1ComposePass
@@ -50,7 +49,7 @@ class FacePass:
     and the relief heights that the renderer prepared before it draws."""
 
     def __init__(self, ctx: moderngl.Context, programs: Programs, mesh: FaceMesh,
-                 deform: DeformPass, maps: FaceMaps, t1: T1ComposePass,
+                 deform: DeformPass | GpuDeformPass, maps: FaceMaps, t1: T1ComposePass,
                  relief: ReliefPass) -> None:
         self.ctx, self.programs, self.mesh = ctx, programs, mesh
         self.deform, self.maps, self.t1, self.relief = deform, maps, t1, relief
@@ -61,9 +60,8 @@ class FacePass:
         self._wdv = ctx.buffer(np.zeros((v, 4 * SLOTS + 2 * SLOTS), "f4").tobytes())
         self._skin = ctx.buffer(np.ones(v, "f4").tobytes())
         self._strain = ctx.buffer(reserve=v * 4, dynamic=True)
-        self._strain_field = StrainField(mesh)
         self._strain_key: tuple[int, float] | None = None  # (pose version, full_at)
-        self._render_strain = np.zeros(len(mesh.weld), np.float32)
+        self._strain_split: tuple[object, np.ndarray] = (None, np.zeros(v, np.float32))
         self.split = TriangleSplit(self.ibo, mesh.triangles, mesh.uvs, mesh.rest[mesh.weld])
         self._vaos: dict[tuple[str, ...], moderngl.VertexArray] = {}
         self._uniforms: dict[str, object] = {}
@@ -89,9 +87,7 @@ class FacePass:
         """Compression weights for this frame's pose (only when the pose or gain changed)."""
         key = (self.deform.version, full_at)
         if key != self._strain_key:
-            weights = self._strain_field.weights(self.deform.positions, full_at)
-            self._render_strain = weights[self.mesh.weld].astype("f4")
-            self._strain.write(self._render_strain.tobytes())
+            self._strain_split = self.deform.write_strain(self._strain, full_at)
             self._strain_key = key
 
     # --- drawing --------------------------------------------------------------------------
@@ -128,10 +124,11 @@ class FacePass:
         if technique == "t1":
             return self.split.for_areas(self.t1.activation_values)
         if technique == "t2":
-            return self.split.for_slots(self.deform.version, lambda: moved(
-                self.deform.positions, self.mesh.rest)[self.mesh.weld])
+            return self.split.for_slots(self.deform.motion_key,
+                                        lambda: self.deform.moved_welded()[self.mesh.weld])
         if technique == "strain":
-            return self.split.for_weights(self._strain_key, lambda: self._render_strain)
+            key, weights = self._strain_split
+            return self.split.for_weights(key, lambda: weights)
         return None
 
     def _program(self, settings: RenderSettings, view: np.ndarray, proj: np.ndarray,

@@ -54,3 +54,16 @@ def highest_gl_version() -> tuple[int, int]:
     code = ctx.version_code
     ctx.release()
     return (code // 100, code % 100 // 10)
+
+
+#: Words in GL_RENDERER that name a renderer drawing on the CPU (Mesa's, Microsoft's, VMware's
+#: on a host without 3-D): virtual machines and remote desktops.
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "software rasterizer",
+                      "basic render driver", "apple software renderer")
+
+
+def is_software(ctx: moderngl.Context) -> bool:
+    """Whether the context draws on the CPU (vertex shaders on the calling thread, pixels
+    on a few cores): reduced resolution while moving, and numpy deformation, pay there."""
+    renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
+    return any(word in renderer for word in SOFTWARE_RENDERERS)

@@ -8,7 +8,8 @@ import moderngl
 from studio.render.shaders import build_program
 
 UNITS = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
-         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7, "relief": 8}
+         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7, "relief": 8,
+         "deform": 9}  # the GPU deformation's data textures: 9 and on (gpu_deform.DATA_UNITS)
 
 # the helper passes' programs; any other key is the face program with those #defines
 _HELPERS = {("wire",): ("wire.vert", "wire.frag"),
@@ -29,6 +30,16 @@ class Programs:
             defines = () if key in _HELPERS else key
             tess = ("face.tesc", "face.tese") if "RELIEF_DISPLACE" in key else (None, None)
             self._programs[key] = build_program(self.ctx, vert, frag, defines, *tess)
+        return self._programs[key]
+
+    def feedback(self, vertex: str, varyings: tuple[str, ...],
+                 defines: tuple[str, ...] = ()) -> moderngl.Program:
+        """A vertex-only program whose ``varyings`` transform feedback captures (the GPU
+        deformation's passes), built once per shader and defines."""
+        key = ("feedback", vertex, *defines)
+        if key not in self._programs:
+            self._programs[key] = build_program(self.ctx, vertex, None, defines,
+                                                varyings=varyings)
         return self._programs[key]
 
     def release(self) -> None:

@@ -25,7 +25,7 @@ class ProjectScene:
         """After the mesh or the set of key poses changed (the WDVs are per vertex, so too)."""
         project = self.project
         self.blender = PoseBlender(project.mesh.rest, project.poses)
-        self.renderer.set_mesh(project.mesh)
+        self.renderer.set_mesh(project.mesh, project.poses)
         self.renderer.set_skin(project.skin_weights())
         self.reload_wdv()
         self._posed: dict[str, float] | None = None  # the weights the renderer's pose shows
@@ -66,7 +66,10 @@ class ProjectScene:
         self.weights = {k: float(v) for k, v in weights.items() if k in self.blender.names}
         changed = self.weights != self._posed
         if changed:
-            self.renderer.set_positions(self.blender.blend(self.weights))
+            if self.renderer.deforms_on_gpu:  # a weight per pose crosses the bus, no more
+                self.renderer.set_pose_weights(self.blender.weights_vector(self.weights))
+            else:
+                self.renderer.set_positions(self.blender.blend(self.weights))
             self._posed = self.weights
         self.reload_activations()
         return changed

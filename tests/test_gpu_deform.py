@@ -1,0 +1,188 @@
+"""Deformation on the GPU against the numpy reference: blended positions, normals, tangents in
+both frames, the strain mode's weights and the picture, on random poses of a small bumpy sheet
+with a mirrored UV island (a seam down its middle), a UV-degenerate triangle and a vertex that
+no triangle uses."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from studio.core.animation.poses import KeyPose, PoseBlender
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import DeformCache
+from studio.core.mesh.tangent_frames import TANGENT_FRAMES
+from studio.core.wrinkles.strain import StrainField
+from studio.render.gpu_deform import GpuDeformPass
+from studio.render.programs import Programs
+
+COLUMNS, ROWS = 7, 5  # grid points; the UV mirror line runs down the middle column
+SEAM_ROWS = 2  # its lowest points are split into a copy per side (a seam), the others shared
+
+
+def mirrored_sheet() -> tuple[FaceMesh, list[KeyPose]]:
+    """A bumpy grid whose right half's UVs are mirrored (u runs backwards) about its middle
+    column: split into two render vertices per position at the lowest rows (a seam), shared
+    by both sides above (whose corners lie on both sides of the mirror); plus a triangle whose
+    UVs are one point (hung off the sheet's corner on render vertices of its own) and a
+    position no triangle uses. Three poses, each moving part of the sheet."""
+    x, y = np.meshgrid(np.linspace(-1, 1, COLUMNS), np.linspace(-0.7, 0.7, ROWS))
+    z = 0.15 * np.sin(2.1 * x) * np.cos(1.7 * y)
+    grid = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    n = len(grid)
+    rest = np.vstack([grid, [[-1.2, -1.0, 0.3], [1.3, 0.9, 0.1]]]).astype(np.float32)
+    idx = np.arange(n).reshape(ROWS, COLUMNS)
+    middle = COLUMNS // 2
+    copies = idx[:SEAM_ROWS, middle]  # render vertices n, n + 1, …: the mirrored half's seam
+    degenerate = [idx[0, 0], idx[0, 1], n]  # welded positions of the UV-degenerate triangle
+    weld = np.concatenate([idx.ravel(), copies, degenerate, [n + 1]])
+    uvs = np.column_stack([(rest[weld, 0] + 1) / 2, (rest[weld, 1] + 0.7) / 1.4])
+    mirrored = np.zeros(len(weld), bool)
+    mirrored[:n] = x.ravel() > 0
+    mirrored[n:n + SEAM_ROWS] = True
+    uvs[mirrored, 0] = 1.0 - uvs[mirrored, 0]
+    first_degenerate = n + SEAM_ROWS
+    uvs[first_degenerate:first_degenerate + 3] = (0.9, 0.9)
+    seam = {int(i): n + r for r, i in enumerate(copies)}
+    triangles = []
+    for r in range(ROWS - 1):
+        for c in range(COLUMNS - 1):
+            def at(rr: int, cc: int, right: bool = c >= middle) -> int:
+                i = int(idx[rr, cc])
+                return seam.get(i, i) if right else i
+
+            a, b, d, e = at(r, c), at(r, c + 1), at(r + 1, c), at(r + 1, c + 1)
+            triangles += [[a, b, e], [a, e, d]]
+    triangles.append([first_degenerate, first_degenerate + 1, first_degenerate + 2])
+    mesh = FaceMesh(rest, np.array(triangles), uvs.astype(np.float32), weld)
+    rng = np.random.default_rng(3)
+    poses = []
+    for k, region in enumerate((x.ravel() < 0.3, y.ravel() > -0.2, np.hypot(x, y).ravel() < 0.6)):
+        moved = rest.copy()
+        moved[:n][region] += rng.normal(0, 0.06, (region.sum(), 3)).astype(np.float32)
+        poses.append(KeyPose(f"pose {k}", moved))
+    return mesh, poses
+
+
+@pytest.fixture(scope="module")
+def sheet():
+    return mirrored_sheet()
+
+
+def gpu_frame(ctx, mesh, poses, weights, frame) -> np.ndarray:
+    deform = GpuDeformPass(ctx, Programs(ctx), mesh, poses)
+    try:
+        deform.set_weights(np.float32(weights))
+        deform.upload(frame)
+        return np.frombuffer(deform.buffer.read(), np.float32).reshape(-1, 10).copy()
+    finally:
+        deform.release()
+
+
+@pytest.mark.parametrize("frame", TANGENT_FRAMES)
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_positions_normals_and_tangents_are_numpy_s(gl_context, sheet, frame, seed):
+    """Random weights (some zero, some above 1 or negative): the GPU's vertex buffer is the
+    numpy reference's to float32 rounding; the handedness exactly."""
+    mesh, poses = sheet
+    weights = np.random.default_rng(seed).uniform(-0.5, 1.5, len(poses))
+    weights[seed % len(poses)] = 0.0
+    blender = PoseBlender(mesh.rest, poses)
+    positions = blender.blend(dict(zip((p.name for p in poses), weights.tolist(), strict=True)))
+    expected = DeformCache(mesh, frame).update(positions)
+    got = gpu_frame(gl_context, mesh, poses, weights, frame)
+    np.testing.assert_allclose(got[:, :3], expected[:, :3], atol=2e-6)
+    np.testing.assert_allclose(got[:, 3:9], expected[:, 3:9], atol=2e-5)
+    np.testing.assert_array_equal(got[:, 9], expected[:, 9])
+
+
+@pytest.mark.parametrize("frame", TANGENT_FRAMES)
+def test_the_mirrored_island_seam_and_degenerate_cases_by_hand(gl_context, sheet, frame):
+    mesh, poses = sheet
+    got = gpu_frame(gl_context, mesh, poses, np.zeros(len(poses)), frame)
+    weld = mesh.weld
+    grid = ROWS * COLUMNS
+    seam = np.arange(grid, grid + SEAM_ROWS)  # the mirrored half's copies
+    originals = weld[seam]
+    # welded normals: both copies of a seam position shade alike
+    np.testing.assert_allclose(got[seam, 3:6], got[originals, 3:6], atol=1e-6)
+    # the mirrored half (right of the middle) has handedness -1, the left +1
+    x = mesh.rest[weld, 0]
+    on_sheet = np.arange(len(weld)) < grid
+    assert (got[on_sheet & (x > 0.01), 9] == -1).all()
+    assert (got[on_sheet & (x < -0.01), 9] == 1).all()
+    assert (got[seam, 9] == -1).all() and (got[originals, 9] == 1).all()
+    # tangents are unit and perpendicular to the normals everywhere, never NaN
+    assert np.isfinite(got).all()
+    np.testing.assert_allclose(np.linalg.norm(got[:, 6:9], axis=1), 1.0, atol=1e-5)
+    assert np.abs(np.einsum("ij,ij->i", got[:, 3:6], got[:, 6:9])).max() < 1e-5
+    # the position no triangle uses: normal (0, 0, 1), some perpendicular tangent, w = +1
+    lonely = len(weld) - 1
+    np.testing.assert_array_equal(got[lonely, 3:6], [0, 0, 1])
+    np.testing.assert_allclose(got[lonely, 6:10], [0, 1, 0, 1], atol=1e-7)  # (0, 0, 1) × x
+
+
+def test_strain_weights_are_numpy_s_and_a_stretch_shows_none(gl_context, sheet):
+    mesh, poses = sheet
+    squeezed = mesh.rest * np.float32([0.9, 1.0, 1.0])  # 10 % shorter along x
+    stretched = mesh.rest * np.float32([1.2, 1.2, 1.2])
+    cases = [*poses, KeyPose("squeeze", squeezed), KeyPose("stretch", stretched)]
+    deform = GpuDeformPass(gl_context, Programs(gl_context), mesh, cases)
+    target = gl_context.buffer(reserve=mesh.n_vertices * 4)
+    field = StrainField(mesh)
+    try:
+        for weights in (np.eye(len(cases))[k] for k in range(len(cases))):
+            deform.set_weights(np.float32(weights))
+            deform.upload("mikktspace")
+            _, may_show = deform.write_strain(target, 0.12)
+            got = np.frombuffer(target.read(), np.float32)
+            positions = mesh.rest + sum(w * (p.positions - mesh.rest)
+                                        for w, p in zip(weights, cases, strict=True))
+            expected = field.weights(positions.astype(np.float32), 0.12)[mesh.weld]
+            np.testing.assert_allclose(got, expected, atol=1e-5)
+            assert (may_show[expected > 0] > 0).all()  # the split draw never hides a wrinkle
+        assert got.max() == 0.0  # the last case, stretched: nothing compressed
+        # squeezed by 10 % along x: a vertex inside the sheet has four x-ish edges of its six
+        deform.set_weights(np.float32(np.eye(len(cases))[-2]))
+        deform.upload("mikktspace")
+        deform.write_strain(target, 0.12)
+        got = np.frombuffer(target.read(), np.float32)
+        assert got[3 * COLUMNS + 3] > 0.3
+    finally:
+        target.release()
+        deform.release()
+
+
+@pytest.mark.parametrize("technique", ["t2", "strain", "none"])
+def test_the_studio_draws_the_same_face_deformed_either_way(gl_context, monkeypatch, technique):
+    """The whole renderer, GPU deformation against numpy, on the procedural face posed: the
+    same picture (the split draw's choice of triangles included)."""
+    from studio.core.project.sample import make_sample
+    from studio.render.offscreen import OffscreenStudio
+    from studio.render.settings import RenderSettings
+
+    project = make_sample(561)
+    weights = {p.name: 0.3 + 0.2 * k for k, p in enumerate(project.poses[:3])}
+    images = {}
+    for deform in ("cpu", "gpu"):
+        monkeypatch.setenv("WRINKLE_DEFORM", deform)
+        with OffscreenStudio(project, 96, 96, ctx=gl_context) as studio:
+            assert studio.renderer.deforms_on_gpu == (deform == "gpu")
+            settings = RenderSettings(technique=technique, view="heat")
+            studio.render(settings, weights)  # one pose, then another: the caches move on
+            held = {**weights, project.poses[0].name: 0.9}
+            images[deform] = studio.render(settings, held)
+            assert not studio.scene.set_pose_weights(held)  # a held pose: nothing to redo
+            assert np.array_equal(studio.render(settings), images[deform])
+    assert images["cpu"].std() > 5  # a picture, not a blank
+    difference = np.abs(images["cpu"].astype(int) - images["gpu"].astype(int))
+    assert difference.max() <= 2
+
+
+def test_a_bad_deform_choice_is_one_error(monkeypatch):
+    from studio.core.files.errors import RenderError
+    from studio.render.renderer import deform_choice
+
+    monkeypatch.setenv("WRINKLE_DEFORM", "quantum")
+    with pytest.raises(RenderError, match="WRINKLE_DEFORM=quantum: choose auto, gpu, cpu"):
+        deform_choice()
