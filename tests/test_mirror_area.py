@@ -366,3 +366,25 @@ def test_a_split_vertex_that_is_no_uv_seam_gives_one_image() -> None:
     assert owner.tolist() == [0]
     assert uv == pytest.approx(np.array([[0.5025, 0.5]]), abs=1e-6)
     assert scale == pytest.approx([1.0])
+
+
+def test_an_eye_over_the_skin_in_uv_is_never_a_dab_or_its_mirror_image() -> None:
+    """A symmetric face over [−1, 1] × [0, 1] (UV = its position) and an eye shell in front
+    of its left half whose UVs cover the face's right half: a dab on the skin's left half is
+    mirrored onto the skin's right half (u → 1 − u), not onto or from the eye."""
+    face = flat(-1.0, 1.0, 0.0, 1.0)
+    eye = flat(-0.9, -0.1, 0.1, 0.9, lambda x, y: (0.55 + 0.4 * (x + 0.9) / 0.8, y))
+    shift = len(face.rest)
+    in_front = eye.rest + np.array([0.0, 0.0, 0.2])
+    mesh = FaceMesh(np.r_[face.rest, in_front],  # the eye's triangles first
+                    np.r_[eye.triangles + shift, face.triangles], np.r_[face.uvs, eye.uvs],
+                    np.arange(shift + len(eye.rest)))
+    skin = np.arange(mesh.n_triangles) >= eye.n_triangles
+    dabs = np.array([[0.2, 0.5], [0.3, 0.3], [0.8, 0.6]])  # the last under the eye's UVs
+    owner, uv, _ = SurfaceMirror(mesh, skin=skin).mirror_uv(dabs, 0.01)
+    np.testing.assert_array_equal(owner, [0, 1, 2])
+    np.testing.assert_allclose(uv, np.c_[1.0 - dabs[:, 0], dabs[:, 1]], atol=1e-6)
+    tri, _ = SurfaceMirror(mesh, skin=skin).locate_uv(dabs, 0.01)
+    assert skin[tri].all()
+    _, taken, _ = SurfaceMirror(mesh).mirror_uv(dabs, 0.01)  # the eye in the search
+    assert np.abs(taken - np.c_[1.0 - dabs[:, 0], dabs[:, 1]]).max() > 0.05

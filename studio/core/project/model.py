@@ -51,8 +51,9 @@ class Project:
         return (~self.not_face).astype(np.float32)
 
     def skin_triangles(self) -> np.ndarray:
-        """(F,) bool: triangles whose three corners are skin."""
-        return (self.skin_weights() > 0)[self.mesh.welded_triangles].all(axis=1)
+        """(F,) bool, read-only: triangles whose three corners are skin. The same array while
+        the mesh and the not-face flags stay, so tools can cache what they build from it."""
+        return self._skin()[0]
 
     def skin_mesh(self) -> FaceMesh:
         """The mesh with only its skin triangles (same vertices), for everything written in UV
@@ -60,16 +61,20 @@ class Project:
         teeth often share the skin's UV tile, and where UV triangles overlap the one drawn last
         owns the texel — an eye would erase the brow's compression. The whole mesh when
         nothing is marked not-face (or nothing would be left)."""
+        return self._skin()[1]
+
+    def _skin(self) -> tuple[np.ndarray, FaceMesh]:
         flags = None if self.not_face is None else self.not_face.tobytes()
-        cached = self.__dict__.get("_skin_mesh")
+        cached = self.__dict__.get("_skin_cache")
         if cached is not None and cached[0] is self.mesh and cached[1] == flags:
-            return cached[2]  # the same object each time: tools cache by the mesh they get
-        keep = self.skin_triangles()
+            return cached[2], cached[3]
+        keep = (self.skin_weights() > 0)[self.mesh.welded_triangles].all(axis=1)
+        keep.flags.writeable = False
         mesh = self.mesh
         if not keep.all() and keep.any():
             mesh = FaceMesh(mesh.rest, mesh.triangles[keep], mesh.uvs, mesh.weld, mesh.source)
-        self.__dict__["_skin_mesh"] = (self.mesh, flags, mesh)
-        return mesh
+        self.__dict__["_skin_cache"] = (self.mesh, flags, keep, mesh)
+        return keep, mesh
 
     def skin_tiles(self) -> list[int]:
         """The UDIM tiles that hold skin, in order; none for a face on a single tile."""

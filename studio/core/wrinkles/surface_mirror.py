@@ -244,14 +244,20 @@ class SurfaceMirror:
     """Mirror images of brush dabs through the neutral mesh, for any UV layout. Built once per
     mesh; a call maps a batch of dab centres (mask pixels) to their mirror images."""
 
-    def __init__(self, mesh: FaceMesh, axis: int = 0, plane: float = 0.0) -> None:
+    def __init__(self, mesh: FaceMesh, axis: int = 0, plane: float = 0.0,
+                 skin: Array | None = None) -> None:
+        """``skin``: per triangle, the skin's (``Project.skin_triangles``): only they are found
+        under a UV point or as a mirror image, so an eye that shares the skin's UV tile never
+        takes a dab's place. Triangle indices are the whole mesh's either way."""
         self.mesh = mesh
         self.axis, self.plane = axis, plane
+        self.skin = skin
         self.uv_corners = mesh.uvs[mesh.triangles].astype(np.float64)  # (F, 3, 2)
         self.rest_vertices = mesh.rest[mesh.weld].astype(np.float64)  # per render vertex
         self.rest_corners = self.rest_vertices[mesh.triangles]  # (F, 3, 3)
-        self.uv_grid = TriangleGrid(self.uv_corners)
-        self.surface = TriangleGrid(self.rest_corners)
+        self.searched = np.arange(mesh.n_triangles) if skin is None else np.flatnonzero(skin)
+        self.uv_grid = TriangleGrid(self.uv_corners[self.searched])
+        self.surface = TriangleGrid(self.rest_corners[self.searched])
         self.seams = SeamMap(mesh)
         area_3d = _triangle_areas(self.rest_corners)
         area_uv = _triangle_areas(self.uv_corners)
@@ -263,7 +269,7 @@ class SurfaceMirror:
         """The UV triangle under each UV point (or the nearest within ``reach``; −1 for none)
         and the point's barycentric coordinates on it (extrapolated when just outside)."""
         tri, _, plane, _ = self.uv_grid.closest(uvs, max_distance=reach)
-        return tri, plane
+        return self._whole(tri), plane
 
     def rest_points(self, triangles: Array, bary: Array) -> Array:
         return np.einsum("ik,ikj->ij", bary, self.rest_corners[triangles])
@@ -275,7 +281,11 @@ class SurfaceMirror:
         """Neutral surface points → the triangle and barycentric coordinates of their mirror
         images (the closest surface point to the reflection)."""
         tri, _, plane, _ = self.surface.closest(reflect(points, self.axis, self.plane))
-        return tri, plane
+        return self._whole(tri), plane
+
+    def _whole(self, found: Array) -> Array:
+        """Indices among the searched triangles → the whole mesh's (−1 stays)."""
+        return np.where(found >= 0, self.searched[np.maximum(found, 0)], -1)
 
     def scale(self, source: Array, target: Array) -> Array:
         """How much larger in UV a dab must be on ``target`` triangles to cover the surface a

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+import numpy as np
 from PySide6.QtCore import QObject, QSettings, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QIcon, QPixmap
 from PySide6.QtWidgets import (
@@ -72,9 +73,10 @@ class PaintState(QObject):
         self.mirror = "off"  # a key of MIRROR_MODES
         self.overlap = False
         self._surface: SurfaceMirror | None = None
-        # (model axis, position) of the face's left–right symmetry plane; the mask tools point
-        # this at the document's face frame
+        # (model axis, position) of the face's left–right symmetry plane, and the skin's
+        # triangles (the mirror's only targets); the mask tools point these at the document
         self.mirror_plane: Callable[[], tuple[int, float]] = lambda: (0, 0.0)
+        self.skin_triangles: Callable[[], np.ndarray | None] = lambda: None
 
     def set_brush(self, **values) -> None:
         for key, value in values.items():
@@ -106,9 +108,11 @@ class PaintState(QObject):
     def surface_mirror(self, mesh: FaceMesh) -> SurfaceMirror:
         """The mirror through this mesh, built once per mesh (its lookups are precomputed)."""
         axis, plane = self.mirror_plane()
+        skin = self.skin_triangles()
         if self._surface is None or self._surface.mesh is not mesh or \
-                (self._surface.axis, self._surface.plane) != (axis, plane):
-            self._surface = SurfaceMirror(mesh, axis, plane)
+                (self._surface.axis, self._surface.plane) != (axis, plane) or \
+                self._surface.skin is not skin:
+            self._surface = SurfaceMirror(mesh, axis, plane, skin)
         return self._surface
 
     def stroke_mirror(self, mesh: FaceMesh) -> Mirror | None:

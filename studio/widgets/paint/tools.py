@@ -20,6 +20,7 @@ class MaskTools:
         doc = window.doc
         self.state = PaintState(window)
         self.state.mirror_plane = window.doc.mirror_plane  # the face's own symmetry plane
+        self.state.skin_triangles = lambda: doc.project.skin_triangles()
         self._remember_brush()
         self.panel = AreasPanel(doc, self.state)
         self.canvas = UvCanvas(doc, self.state)
