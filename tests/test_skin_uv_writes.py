@@ -16,7 +16,7 @@ from studio.core.animation.poses import KeyPose
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import pack_mesh
 from studio.core.project.model import Project
-from studio.core.setup.auto_setup import auto_start
+from studio.core.setup.auto_setup import auto_start, uv_overlap_share
 from studio.core.wrinkles.skin_strain import SkinStrain
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from tests.test_auto_setup import grid_mesh, squeezed
@@ -104,8 +104,18 @@ def face_with_eye_over_the_skin(tiles: int) -> Project:
 def test_an_eye_over_the_skin_in_uv_takes_nothing_from_its_masks_and_furrows(tiles: int) -> None:
     project = face_with_eye_over_the_skin(tiles)
     assert (project.uv_tiles is None) == (tiles == 1)
-    auto_start(project)
+    lines = auto_start(project)
     check_where_compressed(project, ["squeeze"])
+    # the eye covers about 0.45 × 0.9 of the skin's square: the set-up says so
+    (said,) = [line for line in lines if "overlap" in line]
+    share = int(said.split("overlap ")[1].split("%")[0])
+    assert 35 <= share <= 45 and "skin's triangles only" in said
+
+
+def test_a_face_whose_parts_keep_apart_in_uv_hears_nothing_of_overlaps() -> None:
+    project = face_with_eye_over_the_skin(2)
+    project.mesh.uvs[project.mesh.weld >= 441] += np.float32(0.6)  # the eye off the skin
+    assert uv_overlap_share(project) == 0.0
 
 
 def test_the_skin_mesh_leaves_out_every_triangle_with_a_not_face_corner() -> None:

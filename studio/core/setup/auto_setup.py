@@ -275,6 +275,11 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
     apply_setup(project, report)
     lines = [f"auto setup: {report.summary()}",
              *(f"  {line}" for line in report.pose_lines())]
+    overlap = uv_overlap_share(project)
+    if overlap >= OVERLAP_WORTH_SAYING:
+        lines.append(f"auto setup: parts marked not face overlap {overlap:.0%} of the skin in "
+                     "UV (eyes or teeth on the skin's tile); masks, strain and furrows were "
+                     "taken from the skin's triangles only")
     for map_name, poses in made.items():
         reveal_map(project, report, poses, map_name)
     if made:
@@ -282,6 +287,22 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
         lines.append(f"auto setup: synthesised wrinkled normal maps from the key poses (the "
                      f"face came without one): {maps}")
     return lines
+
+
+OVERLAP_WORTH_SAYING = 0.005  # of the skin's texels
+
+
+def uv_overlap_share(project: Project, size: int = 256) -> float:
+    """The share of the skin's UV texels that not-face triangles (eyes, teeth, lashes) cover
+    too: where a UV-space tool that did not know skin from eye would have mixed them up."""
+    skin = project.skin_triangles()
+    if skin.all() or not skin.any():
+        return 0.0
+    mesh = project.mesh
+    zero = np.zeros(mesh.n_vertices, np.float32)
+    _, on_skin = mask_ops.rasterise_uv(mesh.uvs, mesh.triangles[skin], zero, size)
+    _, on_other = mask_ops.rasterise_uv(mesh.uvs, mesh.triangles[~skin], zero, size)
+    return float((on_skin & on_other).sum() / max(int(on_skin.sum()), 1))
 
 
 def reveal_map(project: Project, report: AutoSetupReport, poses: Iterable[str],
