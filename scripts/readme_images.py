@@ -1,4 +1,4 @@
-"""Renders the README's pictures of the sample face.
+"""Renders the README's pictures of the bundled sample: the ICT-FaceKit head, set up.
 
 Run ``python scripts/readme_images.py`` for all of them, or name some:
 ``python scripts/readme_images.py silhouette``.
@@ -13,20 +13,35 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from studio.bench.report import _font
+from studio.core.project.ict_head import landmark_vertices
 from studio.core.project.model import Project
-from studio.core.project.sample import make_sample, sample_landmarks
+from studio.core.setup.sample_setup import EXPRESSIONS, sample_project
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings
 
 OUT = Path(__file__).resolve().parent.parent / "docs" / "images"
-PANELS = [
-    ("surprise · no wrinkles", "none", "surprise", "shaded"),
-    ("surprise · technique 2 · brow map", "t2", "surprise", "shaded"),
-    ("surprise · technique 1 · brow map", "t1", "surprise", "shaded"),
-    ("squeeze · technique 2 · eyes & cheeks map", "t2", "squeeze", "shaded"),
-    ("frown · technique 2 · brow map", "t2", "frown", "shaded"),
-    ("surprise · automatic (strain), no authoring", "strain", "surprise", "shaded"),
+EXPRESSION = dict(EXPRESSIONS)
+PANELS = [  # label, technique, expression
+    ("surprise · no wrinkles", "none", "surprise"),
+    ("surprise · technique 2", "t2", "surprise"),
+    ("surprise · technique 1", "t1", "surprise"),
+    ("frown · technique 2", "t2", "frown"),
+    ("smile · technique 2", "t2", "smile"),
+    ("squint · automatic (strain), no authoring", "strain", "squint"),
 ]
+CLOSE_UPS = [  # the four poses the issue measured, each where it wrinkles
+    ("browInnerUp_L", (19, 20, 21, 24)), ("browDown_L", (21, 22, 23, 27)),
+    ("mouthSmile_L", (31, 35, 48, 54)), ("eyeSquint_L", (42, 45, 46, 47)),
+]
+
+
+def expression(name: str) -> dict[str, float]:
+    return dict.fromkeys(EXPRESSION[name], 1.0)
+
+
+def landmarks(project: Project) -> np.ndarray:
+    """(68, 3) the head's landmark points (iBUG 300-W order) at rest."""
+    return project.mesh.rest[landmark_vertices()]
 
 
 def labelled(image: np.ndarray, text: str) -> Image.Image:
@@ -56,10 +71,10 @@ def silhouette(project: Project) -> None:
         camera = studio.camera
         camera.yaw, camera.pitch = 90.0, 0.0
         camera.frame(*project.mesh.bounds())
-        marks = sample_landmarks(project)
-        camera.target = marks["forehead"] - [0.0, 0.05, 0.22]  # the outline left of centre
-        camera.distance *= 0.28
-        weights = project.single_pose_weights("surprise")
+        marks = landmarks(project)
+        camera.target = marks[[19, 24]].mean(axis=0) + (marks[27] - marks[30])
+        camera.distance *= 0.45
+        weights = expression("surprise")
         tiles = [labelled(studio.render(RenderSettings(technique="t2", relief=relief), weights),
                           label)
                  for label, relief in (("surprise · t2 · relief off", "off"),
@@ -68,16 +83,107 @@ def silhouette(project: Project) -> None:
 
 
 def sample_techniques(project: Project) -> None:
-    """Both techniques on the surprise, squeeze and frown poses (each area revealing one of the
-    sample's two wrinkled maps), and the automatic mode."""
-    size = (420, 440)
+    """Both techniques and the automatic mode on whole expressions of the real head."""
+    size = (420, 460)
     with OffscreenStudio(project, *size) as studio:
-        studio.camera.yaw = 12.0
-        studio.camera.frame(*project.mesh.bounds(), margin=0.98)
-        tiles = [labelled(studio.render(RenderSettings(technique=t, view=v),
-                                        project.single_pose_weights(p)), label)
-                 for label, t, p, v in PANELS]
+        studio.camera.yaw = 15.0
+        tiles = [labelled(studio.render(RenderSettings(technique=t), expression(e)), label)
+                 for label, t, e in PANELS]
     contact_sheet(tiles, 3, "sample_techniques")
+
+
+def close_ups(project: Project) -> None:
+    """Each of the four poses the issue measured, close up where it wrinkles: no wrinkles,
+    technique 1 and technique 2."""
+    size = (340, 300)
+    marks = landmarks(project)
+    tiles = []
+    with OffscreenStudio(project, *size) as studio:
+        camera = studio.camera
+        camera.yaw, camera.pitch = 15.0, 0.0
+        distance = camera.distance
+        for pose, around in CLOSE_UPS:
+            camera.target = marks[list(around)].mean(axis=0)
+            camera.distance = 0.45 * distance
+            for technique in ("none", "t1", "t2"):
+                image = studio.render(RenderSettings(technique=technique), {pose: 1.0})
+                tiles.append(labelled(image, f"{pose} · {technique}"))
+    contact_sheet(tiles, 6, "real_head_poses")
+
+
+def anatomy_lines(marks: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """Where skin creases on a face, by anatomy (a schematic in model space): forehead lines
+    across the brow raise, vertical frown lines between the brows, crow's feet fanning from
+    the eye corners, the nasolabial folds and marionette lines. Polylines of 3-D points."""
+    up = marks[27] - marks[30]  # nose bridge over nose tip: the face's up, its length a unit
+    out = marks[45] - marks[42]  # along the left eye, toward its outer corner
+    lines = []
+    brows = marks[17:27]
+    for k in (0.7, 1.05, 1.4):  # forehead lines above the brows
+        lines.append(("forehead", brows[1:-1] + k * up))
+    for inner, step in ((marks[21], 0.18), (marks[22], -0.18)):  # glabella
+        x = inner + step * out
+        lines.append(("glabella", np.array([x + 0.45 * up, x - 0.05 * up])))
+    for corner, side in ((marks[45], 1.0), (marks[36], -1.0)):  # crow's feet
+        for tilt in (-0.35, 0.0, 0.35):
+            lines.append(("crow's feet", np.array(
+                [corner + side * 0.15 * out, corner + side * 0.65 * out + tilt * up])))
+    for wing, corner in ((marks[35], marks[54]), (marks[31], marks[48])):  # folds
+        bow = (corner - marks[51]) * 0.35
+        lines.append(("nasolabial", np.array([wing + 0.1 * (wing - marks[33]),
+                                              0.5 * (wing + corner) + bow, corner + bow * 0.8])))
+        lines.append(("marionette", np.array([corner + bow * 0.5, corner - 0.6 * up + bow])))
+    return lines
+
+
+def wrinkle_lines(project: Project) -> None:
+    """Anatomy's wrinkle lines beside the synthesised maps: the head with every wrinkled map
+    revealed where it holds furrows, next to where skin creases on a face."""
+    size = (460, 520)
+    lines = anatomy_lines(landmarks(project))
+    revealed = project_with_every_map(project)
+    with OffscreenStudio(project, *size) as studio:
+        studio.camera.yaw = 0.0
+        plain = Image.fromarray(studio.render(RenderSettings(technique="none"), {}))
+        camera = studio.camera
+        draw = ImageDraw.Draw(plain)
+        for _, points in lines:
+            xy, _ = camera.project(smooth(points), *size)
+            draw.line([tuple(p) for p in xy], fill=(140, 40, 40), width=3)
+    with OffscreenStudio(revealed, *size) as studio:
+        studio.camera.yaw = 0.0
+        maps = studio.render(RenderSettings(technique="none"), {})
+    tiles = [labelled(np.asarray(plain), "where skin creases (anatomy, schematic)"),
+             labelled(maps, "the synthesised wrinkled maps, all furrows shown")]
+    contact_sheet(tiles, 2, "wrinkle_lines")
+
+
+def smooth(points: np.ndarray, steps: int = 12) -> np.ndarray:
+    """A polyline's corners rounded (Chaikin), so drawn creases curve."""
+    for _ in range(steps // 4):
+        a, b = points[:-1], points[1:]
+        points = np.r_[points[:1], np.c_[0.75 * a + 0.25 * b, 0.25 * a + 0.75 * b].reshape(
+            -1, 3), points[-1:]]
+    return points
+
+
+def project_with_every_map(project: Project) -> Project:
+    """A copy whose neutral map is, per texel, the wrinkled map furthest from flat there: the
+    plain shading then shows every synthesised furrow at once."""
+    import copy
+
+    from studio.core.files.images import to_unit_float
+
+    shown = copy.deepcopy(project)
+    textures = shown.textures
+    maps = [to_unit_float(m) * 2.0 - 1.0 for m in textures.wrinkle_maps.values()]
+    tilt = np.stack([np.hypot(m[..., 0], m[..., 1]) for m in maps])
+    pick = np.argmax(tilt, axis=0)
+    best = np.take_along_axis(np.stack(maps), pick[None, ..., None], axis=0)[0]
+    dtype = next(iter(textures.wrinkle_maps.values())).dtype
+    top = np.iinfo(dtype).max
+    textures.normal_neutral = np.clip(np.rint((best * 0.5 + 0.5) * top), 0, top).astype(dtype)
+    return shown
 
 
 def blend_modes(project: Project) -> None:
@@ -87,9 +193,10 @@ def blend_modes(project: Project) -> None:
     with OffscreenStudio(project, *size) as studio:
         camera = studio.camera
         camera.frame(*project.mesh.bounds())
-        camera.target = sample_landmarks(project)["forehead"]
+        marks = landmarks(project)
+        camera.target = marks[[19, 24]].mean(axis=0) + 0.8 * (marks[27] - marks[30])
         camera.distance *= 0.4
-        weights = project.single_pose_weights("surprise")
+        weights = expression("surprise")
         colour, normal = (studio.render(RenderSettings(technique="t2", blend=b), weights)
                           for b in ("colour", "normal"))
     difference = np.abs(colour.astype(int) - normal.astype(int))
@@ -101,8 +208,8 @@ def blend_modes(project: Project) -> None:
     contact_sheet(tiles, 3, "blend_modes")
 
 
-IMAGES = {"sample_techniques": sample_techniques, "silhouette": silhouette,
-          "blend_modes": blend_modes}
+IMAGES = {"sample_techniques": sample_techniques, "real_head_poses": close_ups,
+          "wrinkle_lines": wrinkle_lines, "silhouette": silhouette, "blend_modes": blend_modes}
 
 
 def main(names: list[str]) -> None:
@@ -110,7 +217,7 @@ def main(names: list[str]) -> None:
     if unknown:
         raise SystemExit(f"unknown image {', '.join(unknown)} (choose from {', '.join(IMAGES)})")
     OUT.mkdir(parents=True, exist_ok=True)
-    project = make_sample()
+    project = sample_project()
     for name in names or IMAGES:
         IMAGES[name](project)
 

@@ -167,8 +167,9 @@ def test_waves_toward_a_point_are_dropped_as_tight_rings() -> None:
 
 def test_a_fields_depth_is_its_amount_in_a_valley_fading_away_from_the_first() -> None:
     f = FurrowField(np.arange(4), np.float32([1.0, 0.5, 1.0, 1.0]), np.zeros(4, np.float32),
-                    np.float32([0.0, 0.0, np.pi, 2 * np.pi * synth.FURROWS_EACH_SIDE]))
-    np.testing.assert_allclose(f.depth(), [1.0, 0.75, 0.0, np.exp(-1.0)], atol=1e-6)
+                    np.float32([0.0, 0.0, np.pi, 2 * np.pi * 2]))  # the second furrow over
+    fade = np.exp(-(2 / synth.FURROWS_EACH_SIDE) ** 2)
+    np.testing.assert_allclose(f.depth(), [1.0, 0.75, 0.0, fade], atol=1e-6)
 
 
 def test_groups_get_one_depth_image_each_from_one_pass():

@@ -65,3 +65,11 @@ def load_ict_head(path: str | Path | None = None, poses: list[str] | None = None
     return Project("ICT-FaceKit head", packed, key_poses, textures, not_face=not_face,
                    uv_tiles=tiles)
 
+
+
+def landmark_vertices(path: str | Path | None = None) -> Array:
+    """(68,) welded vertex indices of the kit's facial landmarks, in the iBUG 300-W order
+    (jaw 0–16, brows 17–26, nose 27–35, eyes 36–47, mouth 48–67)."""
+    path = Path(path) if path is not None else resource_path()
+    with np.load(path, allow_pickle=False) as data:
+        return data["landmarks"].astype(np.int64)
