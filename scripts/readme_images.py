@@ -15,6 +15,7 @@ from PIL import Image, ImageDraw
 from studio.bench.report import _font
 from studio.core.project.ict_head import landmark_vertices
 from studio.core.project.model import Project
+from studio.core.project.sample import make_sample, sample_landmarks
 from studio.core.setup.sample_setup import EXPRESSIONS, sample_project
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings
@@ -63,22 +64,24 @@ def contact_sheet(tiles: list[Image.Image], columns: int, name: str) -> None:
     print(f"wrote {OUT / f'{name}.png'}")
 
 
-def silhouette(project: Project) -> None:
-    """Wrinkles in silhouette (issue 10): the surprised forehead in profile, technique 2, with
-    relief off and with displacement (tessellation)."""
+def silhouette(_: Project) -> None:
+    """Wrinkles in silhouette (issue 10), on the procedural test face (its brow map was
+    painted with relief in mind): the surprised forehead in profile, technique 2, with relief
+    off and with displacement (tessellation)."""
+    project = make_sample()
     size = (440, 440)
     with OffscreenStudio(project, *size) as studio:
         camera = studio.camera
         camera.yaw, camera.pitch = 90.0, 0.0
         camera.frame(*project.mesh.bounds())
-        marks = landmarks(project)
-        camera.target = marks[[19, 24]].mean(axis=0) + (marks[27] - marks[30])
-        camera.distance *= 0.45
-        weights = expression("surprise")
+        marks = sample_landmarks(project)
+        camera.target = marks["forehead"] - [0.0, 0.05, 0.22]  # the outline left of centre
+        camera.distance *= 0.28
+        weights = project.single_pose_weights("surprise")
         tiles = [labelled(studio.render(RenderSettings(technique="t2", relief=relief), weights),
                           label)
-                 for label, relief in (("surprise · t2 · relief off", "off"),
-                                       ("surprise · t2 · displaced (tessellation)", "displace"))]
+                 for label, relief in (("test face · surprise · t2 · relief off", "off"),
+                                       ("displaced (tessellation)", "displace"))]
     contact_sheet(tiles, len(tiles), "silhouette")
 
 
