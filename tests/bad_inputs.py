@@ -8,6 +8,7 @@ small valid project, so the corpus follows the file formats as they change.
 from __future__ import annotations
 
 import base64
+import io
 import json
 import os
 import struct
@@ -166,6 +167,18 @@ def _pose_beyond_float32(folder: Path) -> None:
     second = [i for i, line in enumerate(lines) if line.startswith("v ")][1]
     lines[second] = "v 1e39 " + " ".join(lines[second].split()[2:])
     (folder / "pose.obj").write_text("\n".join(lines) + "\n")
+
+
+def _rest_scaled(factor: float) -> Callable[[Path], None]:
+    """bad.wrinkle: p.wrinkle with its neutral positions multiplied by ``factor``."""
+    def build(folder: Path) -> None:
+        with zipfile.ZipFile(folder / "p.wrinkle") as z:
+            rest = np.load(io.BytesIO(z.read("mesh/rest.npy")))
+        out = io.BytesIO()
+        np.save(out, (rest * np.float32(factor)).astype(np.float32))
+        rewrite_project(folder / "p.wrinkle", folder / "bad.wrinkle",
+                        members={"mesh/rest.npy": out.getvalue()})
+    return build
 
 
 def _doc(change: Callable[[dict], None]) -> Callable[[Path], None]:
@@ -343,6 +356,14 @@ CASES = [
     Case("PLY float UV of NaN", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
          "vertex 2 has a non-finite texture coordinate",
          _ply("float", ["0 0 0 0 0", "1 0 0 nan 0", "0 1 0 0 1"]), "out.wrinkle"),
+    # 32-bit floats, but past what 32-bit geometry can square: numpy warned of an overflow in
+    # the normals (issue #30)
+    Case("OBJ vertex of 1e10", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
+         "the mesh has a coordinate of 1e+10 at vertex 1: the studio takes coordinates up to 1e+09",
+         _text("bad.obj", "v 0 0 0\nv 1e10 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"),
+         "out.wrinkle"),
+    Case("project positions of 1e30", ["export", "bad.wrinkle", "--gltf", "out.glb"],
+         "the studio takes coordinates up to 1e+09", _rest_scaled(1e30), "out.glb"),
     Case("OFF vertex of 1e39", ["new", "--mesh", "bad.off", "-o", "out.wrinkle"],
          "vertex 2 is outside the range of 32-bit floats",
          _text("bad.off", "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n"), "out.wrinkle"),

@@ -29,6 +29,25 @@ class KeyPose:
         self.positions = np.ascontiguousarray(self.positions, dtype=np.float32)
 
 
+# Normals, tangents and strain are computed in 32-bit floats, where squared lengths of edges
+# beyond about 1e19 overflow: positions are refused past this, in any unit (1e9 km in mm).
+COORDINATE_LIMIT = 1e9
+
+
+def coordinate_problem(positions: Array, what: str) -> str | None:
+    """Why these positions cannot be used (non-finite, or past ``COORDINATE_LIMIT``), naming
+    the first bad vertex; None when they can."""
+    finite = np.isfinite(positions).all(axis=1)
+    if not finite.all():
+        return f"{what} has a non-finite coordinate at vertex {int(np.argmax(~finite))}"
+    huge = (np.abs(positions) > COORDINATE_LIMIT).any(axis=1)
+    if huge.any():
+        v = int(np.argmax(huge))
+        return (f"{what} has a coordinate of {float(np.abs(positions[v]).max()):.3g} at vertex "
+                f"{v}: the studio takes coordinates up to {COORDINATE_LIMIT:.0e} in any unit")
+    return None
+
+
 def check_pose_topology(rest: Array, pose: KeyPose, source: str | None = None) -> None:
     """Reject a pose that cannot be blended with the neutral mesh, naming the first mismatch."""
     if pose.positions.shape != rest.shape:
@@ -37,12 +56,9 @@ def check_pose_topology(rest: Array, pose: KeyPose, source: str | None = None) -
             f"the neutral mesh has {len(rest)}",
             source,
         )
-    bad = ~np.isfinite(pose.positions).all(axis=1)
-    if bad.any():
-        raise MeshError(
-            f"key pose '{pose.name}' has a non-finite coordinate at vertex {int(np.argmax(bad))}",
-            source,
-        )
+    problem = coordinate_problem(pose.positions, f"key pose '{pose.name}'")
+    if problem:
+        raise MeshError(problem, source)
 
 
 def parke_cosine(fraction: float | Array) -> float | Array:

@@ -12,6 +12,7 @@ from functools import cached_property
 
 import numpy as np
 
+from studio.core.animation.poses import coordinate_problem
 from studio.core.files.errors import MeshError
 
 Array = np.ndarray
@@ -44,6 +45,9 @@ class FaceMesh:
             raise MeshError("the mesh has no texture coordinates (UVs) for every vertex", where)
         if not np.isfinite(self.rest).all():
             raise MeshError("the mesh has non-finite vertex coordinates (NaN or infinity)", where)
+        problem = coordinate_problem(self.rest, "the mesh")
+        if problem:
+            raise MeshError(problem, where)
         if not np.isfinite(self.uvs).all():
             raise MeshError("the mesh has non-finite texture coordinates", where)
         if self.triangles.min() < 0 or self.triangles.max() >= len(self.weld):
