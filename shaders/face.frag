@@ -28,7 +28,11 @@ uniform sampler2D u_normals;          // rg: neutral map's xy, ba: first wrinkle
 #define WRINKLE_MAPS 4   // the face's number of wrinkled maps: no code for maps it lacks
 #endif
 uniform sampler2DArray u_more_maps;   // rg: xy of wrinkled maps 1, 2, 3 (layer = map - 1)
-uniform int u_view_mode;              // 0 shaded, 1 wrinkle heat map, 2 normals, 3 UV checker
+uniform int u_view_mode;  // 0 shaded, 1 heat of the weight, 2 normals, 3 UV checker, 4 heat of
+                          // what shows: the weight times |wrinkled - neutral| over SHOWS_FULL
+// |wrinkled - neutral| of unit normals at which the heat of what shows is hot (a furrow's wall,
+// about 23 degrees; studio/core/wrinkles/shading.py holds the same number)
+const float SHOWS_FULL = 0.4;
 
 #if defined(TECHNIQUE_T1) && defined(T1_DIRECT)
 uniform sampler2DArray u_masks;     // one layer per influence area; the layer count is read here
@@ -114,6 +118,7 @@ void main() {
         total = 1.0;
     }
     vec2 uv = v_texcoord;
+    float shows = 0.0;   // sum of w_m * |wrinkled_m - neutral|: what the weights change
 #ifdef TECHNIQUE_FLAT
     vec3 colour = shade(vec3(0.62), n_geo, view_dir);
     vec3 n = n_geo;
@@ -125,11 +130,16 @@ void main() {
 #endif
     vec3 albedo = srgb_to_linear(texture(u_diffuse, uv).rgb);
     vec4 normals = texture(u_normals, uv);
-    vec3 n_neutral = normalize(tbn * unpack_normal(normals.xy));
+    vec3 t_neutral = unpack_normal(normals.xy);
+    vec3 n_neutral = normalize(tbn * t_neutral);
     vec3 n_sum = n_neutral * (1.0 - total);
 #ifdef BLEND_NORMALS
     for (int m = 0; m < WRINKLE_MAPS; ++m) {
-        if (w[m] > 0.0) n_sum += w[m] * normalize(tbn * wrinkled_normal(m, normals, uv));
+        if (w[m] > 0.0) {
+            vec3 t_m = wrinkled_normal(m, normals, uv);
+            n_sum += w[m] * normalize(tbn * t_m);
+            shows += w[m] * length(t_m - t_neutral);
+        }
     }
     vec3 n = normalize(n_sum);
     vec3 colour = shade(albedo, n, view_dir);
@@ -139,17 +149,20 @@ void main() {
     vec2 received = light(n_neutral, view_dir) * (1.0 - total);
     for (int m = 0; m < WRINKLE_MAPS; ++m) {
         if (w[m] > 0.0) {
-            vec3 n_m = normalize(tbn * wrinkled_normal(m, normals, uv));
+            vec3 t_m = wrinkled_normal(m, normals, uv);
+            vec3 n_m = normalize(tbn * t_m);
             received += w[m] * light(n_m, view_dir);
             n_sum += w[m] * n_m;
+            shows += w[m] * length(t_m - t_neutral);
         }
     }
     vec3 colour = albedo * (u_ambient + received.x) + vec3(received.y);
     vec3 n = normalize(n_sum);
 #endif
 #endif
-    if (u_view_mode == 1) {
-        colour = mix(srgb_to_linear(heat(total)), colour * 0.3, 0.35);
+    if (u_view_mode == 1 || u_view_mode == 4) {
+        float t = u_view_mode == 1 ? total : clamp(shows / SHOWS_FULL, 0.0, 1.0);
+        colour = mix(srgb_to_linear(heat(t)), colour * 0.3, 0.35);
     } else if (u_view_mode == 2) {
         colour = srgb_to_linear(n * 0.5 + 0.5);
     } else if (u_view_mode == 3) {

@@ -19,7 +19,7 @@ pytestmark = pytest.mark.core
     [
         (
             {"debug_view": "xray"},
-            "unknown debug view 'xray' (choose from shaded, heat, normals, uv)",
+            "unknown debug view 'xray' (choose from shaded, heat, normals, uv, heat-shows)",
         ),
         ({"blend": "add"}, "unknown blend 'add' (choose from colour, normal)"),
         ({"relief": "bump"}, "unknown relief 'bump' (choose from off, displace, parallax)"),

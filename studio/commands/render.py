@@ -68,7 +68,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="render the procedural test face (the thesis's study) at this many "
                         "vertices instead of the bundled sample head")
     p.add_argument("--view", choices=DEBUG_VIEWS, default="shaded",
-                   help="debug view (heat = wrinkle visibility)")
+                   help="debug view (heat: the wrinkle weight; heat-shows: the weight times how "
+                        "much the revealed wrinkled map differs from the neutral one)")
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")
     p.add_argument("--blend", choices=BLENDS, default="colour",
                    help="mix two shaded colours (the thesis) or the two normals (light once)")

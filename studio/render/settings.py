@@ -19,7 +19,7 @@ T1_MODES = ("composed", "direct")
 @dataclass
 class RenderSettings:
     technique: str = "t2"  # flat | none | t1 | t2 | strain (automatic, from skin compression)
-    view: str = "shaded"  # shaded | heat | normals | uv
+    view: str = "shaded"  # shaded | heat | normals | uv | heat-shows (DEBUG_VIEWS)
     wireframe: bool = False
     light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)  # view space, toward the light
     ambient: float = 0.1

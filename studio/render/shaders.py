@@ -6,21 +6,32 @@ uniform, so every program does only its own work per pixel.
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Iterable
 from functools import cache
+from pathlib import Path
 
 import moderngl
 
 from studio.paths import shader_dir
 
 _INCLUDE = re.compile(r'^\s*#include\s+"([^"]+)"\s*$', re.MULTILINE)
+# a folder of shaders to load instead of shaders/: scripts/glsl_mutation.py runs the tests on
+# mutated copies this way, never touching the tree's own files
+SHADER_DIR_ENV = "WRINKLE_SHADER_DIR"
+
+
+def shader_folder() -> Path:
+    """Where the GLSL is read from: ``$WRINKLE_SHADER_DIR`` when set, else ``shaders/``."""
+    override = os.environ.get(SHADER_DIR_ENV)
+    return Path(override) if override else shader_dir()
 
 
 @cache
 def load_source(name: str) -> str:
     """Shader text with ``#include "file"`` lines replaced by that file's text."""
-    path = shader_dir() / name
+    path = shader_folder() / name
     text = path.read_text(encoding="utf-8")
     return _INCLUDE.sub(lambda m: load_source(m.group(1)), text)
 

@@ -18,7 +18,10 @@ from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAME
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
 from studio.core.wrinkles.techniques import TECHNIQUES
 
-DEBUG_VIEWS = ("shaded", "heat", "normals", "uv")  # heat = wrinkle visibility
+# heat: the wrinkle weight; heat-shows: the weight times how much the revealed wrinkled map
+# differs from the neutral one there (an area on a flat part of its map is hot in one, cold in
+# the other). The order is face.frag's u_view_mode.
+DEBUG_VIEWS = ("shaded", "heat", "normals", "uv", "heat-shows")
 BLENDS = ("colour", "normal")  # colour: the thesis's mix of two shadings; normal: light once
 RELIEFS = ("off", "displace", "parallax")  # displace: tessellation (OpenGL 4.0); parallax: 3.3
 
@@ -31,7 +34,7 @@ CHOICES: dict[str, tuple[str, ...]] = {"technique": tuple(TECHNIQUES), "debug_vi
 class ViewSettings:
     technique: str = "t2"  # a key of studio.core.wrinkles.techniques.TECHNIQUES
     split: bool = False  # t1 | t2 | automatic side by side (the viewport only)
-    debug_view: str = "shaded"  # shaded | heat | normals | uv
+    debug_view: str = "shaded"  # shaded | heat | normals | uv | heat-shows
     wireframe: bool = False
     blend: str = "colour"
     relief: str = "off"

@@ -43,6 +43,7 @@ from studio.core.files.errors import StudioError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.brush import Brush, Mirror, UvMirror
+from studio.core.wrinkles.flat_reveal import reveal_maps, t1_reveal
 from studio.core.wrinkles.surface_mirror import SurfaceMirror
 from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
@@ -58,6 +59,8 @@ MIRROR_MODES = {
              "face's surface (across x = 0), whatever the UV layout"),
 }
 BRUSH_SETTINGS = ("radius", "hardness", "opacity", "flow")  # remembered between sessions
+FLAT_CHECK_MS = 300  # a paint stroke's dabs settle this long before the flat-map check reruns
+WARNING_STYLE = "color: #e0a030;"
 
 
 class PaintState(QObject):
@@ -165,6 +168,9 @@ class AreaRow(QWidget):
         self.colour.setAutoRaise(True)
         self.name = QLabel(area.name)
         self.name.setMinimumWidth(110)
+        self.flag = QLabel("⚠")  # shown when the area reveals a flat part of its map
+        self.flag.setStyleSheet(WARNING_STYLE)
+        self.flag.hide()
         self.slider = QSlider(Qt.Orientation.Horizontal)
         self.slider.setRange(0, 100)
         self.slider.setToolTip("The area's own activation (pose links add to it)")
@@ -173,11 +179,12 @@ class AreaRow(QWidget):
         self.value.setFixedWidth(34)
         layout = QHBoxLayout(self)
         layout.setContentsMargins(4, 1, 4, 1)
-        for w in (self.visible, self.colour, self.name):
+        for w in (self.visible, self.colour, self.name, self.flag):
             layout.addWidget(w)
         layout.addWidget(self.slider, 1)
         layout.addWidget(self.value)
         self._gesture: int | None = None
+        self.flagged = ""  # why the area shows nothing (AreasPanel._show_flat), or ""
         self.show_values()
         self.visible.toggled.connect(
             lambda v: mask_edits.set_area_visible(panel.doc, self.index, v))
@@ -243,6 +250,13 @@ class AreasPanel(QScrollArea):
         document.poseWeightsChanged.connect(self._show_values)
         document.posesChanged.connect(self._rebuild)
         state.changed.connect(self._show_brush)
+        self._flat_timer = QTimer(self)  # painting: check once the dabs settle, not per dab
+        self._flat_timer.setSingleShot(True)
+        self._flat_timer.setInterval(FLAT_CHECK_MS)
+        self._flat_timer.timeout.connect(self._show_flat)
+        document.texturesChanged.connect(self._show_flat)
+        document.masksChanged.connect(self._show_flat)
+        document.maskRegionChanged.connect(lambda *_: self._flat_timer.start())
         self._rebuild()
         if self.doc.project.influence.areas:
             self.select(0)
@@ -388,6 +402,11 @@ class AreasPanel(QScrollArea):
                       "curve(weight); the curve shapes how (linear unless chosen).")
         note.setWordWrap(True)
         v.addWidget(note)
+        self.flat_note = QLabel()
+        self.flat_note.setWordWrap(True)
+        self.flat_note.setStyleSheet(WARNING_STYLE)
+        self.flat_note.hide()
+        v.addWidget(self.flat_note)
         self.links_form = QFormLayout()
         v.addLayout(self.links_form)
         auto = QHBoxLayout()
@@ -447,6 +466,27 @@ class AreasPanel(QScrollArea):
             self.auto_pose.addItems(poses)
         self._show_links()
         self._show_resolution()
+        self._show_flat()
+
+    def _show_flat(self) -> None:
+        """Flag each area whose weight lands on a flat part of its wrinkled map (the heat of
+        the weight is hot there while the picture shows nothing), with the reason."""
+        areas = self.doc.project.influence.areas
+        if not self.rows or len(self.rows) != len(areas):
+            self.flat_note.hide()
+            return
+        maps = reveal_maps(self.doc.project.textures)
+        for row, area in zip(self.rows, areas, strict=True):
+            reveal = t1_reveal(maps, area)
+            row.flagged = reveal.reason() if reveal is not None and reveal.flagged else ""
+            row.flag.setVisible(bool(row.flagged))
+            row.flag.setToolTip(f"{area.name} {row.flagged}: its heat of the weight is hot, "
+                                "the picture does not change. Paint where the map has "
+                                "wrinkles, or choose another map" if row.flagged else "")
+        active = self.rows[self.state.active].flagged if 0 <= self.state.active < len(
+            self.rows) else ""
+        self.flat_note.setText(f"This area {active}." if active else "")
+        self.flat_note.setVisible(bool(active))
 
     def _show_values(self) -> None:
         for row in self.rows:
@@ -519,6 +559,7 @@ class AreasPanel(QScrollArea):
     def _row_selected(self, row: int) -> None:
         self.state.set_active(row)
         self._show_links()
+        self._show_flat()
 
     def active_index(self) -> int:
         return self.state.active
