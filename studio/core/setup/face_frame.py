@@ -75,7 +75,8 @@ def _snap(vector: Array, allowed: Iterable[str] = AXES) -> tuple[Array, bool]:
     if not allowed:
         return v, False
     best = max(allowed, key=lambda name: float(np.dot(v, AXES[name])))
-    if np.degrees(np.arccos(np.clip(np.dot(v, AXES[best]), -1, 1))) <= SNAP_DEGREES:
+    # "within" includes the boundary itself, which rounding may put a hair past
+    if np.degrees(np.arccos(np.clip(np.dot(v, AXES[best]), -1, 1))) <= SNAP_DEGREES + 1e-9:
         return np.array(AXES[best], np.float64), True
     return v, False
 
