@@ -51,9 +51,10 @@ def test_the_cone_slider_shows_and_sets_the_current_area_only(window, qtbot):
     qtbot.waitUntil(shading.cone.slider.isVisible)
     assert shading.cone.value() == 35.0  # the current area's angle, not the first's
     slider = shading.cone.slider
-    middle = slider.rect().center()
-    qtbot.mousePress(slider, Qt.MouseButton.LeftButton, pos=middle)  # a click on the groove
-    qtbot.mouseRelease(slider, Qt.MouseButton.LeftButton, pos=middle)
+    groove = slider.rect().center()
+    groove.setX(slider.width() - 3)  # a click on the groove, clear of the handle at 35°
+    qtbot.mousePress(slider, Qt.MouseButton.LeftButton, pos=groove)
+    qtbot.mouseRelease(slider, Qt.MouseButton.LeftButton, pos=groove)
     changed = areas[2].cone_angle_deg
     assert changed != 35.0
     assert [a.cone_angle_deg for a in areas[:2]] == [20.0, 20.0]  # the others keep theirs

@@ -26,6 +26,9 @@ pytestmark = pytest.mark.core
         (0.8, -0.8, "left jaw"),
         (0.0, -0.95, "chin"),
         (0.01, -0.12, "nose"),
+        # the ICT head's noseSneer_L and _R compress here (face coordinates measured there)
+        (0.26, -0.05, "left side of the nose"),
+        (-0.33, -0.05, "right side of the nose"),
     ],
 )
 def test_a_point_is_named_after_its_nearest_anchor(x: float, y: float, name: str) -> None:
@@ -35,8 +38,8 @@ def test_a_point_is_named_after_its_nearest_anchor(x: float, y: float, name: str
 def test_every_sided_anchor_has_its_mirror_image() -> None:
     names, points = _anchors()
     assert names == region_names()
-    assert len(names) == len(set(names)) == 5 + 2 * 7
-    assert points.shape == (19, 2) and points.dtype.kind == "f"
+    assert len(names) == len(set(names)) == 5 + 2 * 8
+    assert points.shape == (21, 2) and points.dtype.kind == "f"
     for i, name in enumerate(names):
         if name.startswith("left "):
             j = names.index("right " + name.removeprefix("left "))

@@ -52,7 +52,7 @@ def test_region_names_list_every_name_a_point_can_get():
     """The list holds the central regions and both sides of each sided one, once each, and every
     name ``region_name`` gives is in it."""
     names = region_names()
-    assert len(names) == len(set(names)) == 5 + 2 * 7
+    assert len(names) == len(set(names)) == 5 + 2 * 8
     for name in ("forehead", "between the brows", "nose", "upper lip", "chin",
                  "left brow", "right brow", "left nasolabial fold", "right jaw"):
         assert name in names

@@ -127,9 +127,10 @@ def test_expression_factor_control_is_undoable(window, qtbot):
 
 
 def test_f_frames_the_face_after_zooming(window, qtbot):
+    window.viewport.setFocus()
+    qtbot.keyClick(window.viewport, Qt.Key.Key_F)
     distance = window.doc.camera.distance
     window.doc.camera.zoom(3.0)
-    window.viewport.setFocus()
     qtbot.keyClick(window.viewport, Qt.Key.Key_F)
     assert window.doc.camera.distance == pytest.approx(distance)
 
@@ -163,8 +164,9 @@ def test_anti_aliasing_off_hardens_only_the_edges_and_is_remembered(window, open
         # edges: where the hard image itself jumps between neighbouring pixels
         grey = hard.astype(int).sum(axis=2)
         jump = np.zeros_like(changed)
-        jump[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 40
-        jump[1:] |= np.abs(np.diff(grey, axis=0)) > 40
+        # (20: the shaded side of the face meets the dark background by a small step)
+        jump[:, 1:] |= np.abs(np.diff(grey, axis=1)) > 20
+        jump[1:] |= np.abs(np.diff(grey, axis=0)) > 20
         near_jump = jump.copy()
         near_jump[:, :-1] |= jump[:, 1:]
         near_jump[:-1] |= jump[1:]

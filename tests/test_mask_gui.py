@@ -60,6 +60,7 @@ def show_t1(window) -> None:
 def test_drag_on_the_uv_canvas_paints_the_stroke_and_one_undo_removes_it(window, qtbot):
     tools = window.mask_tools
     window.docks["UV Paint"].show()
+    window.docks["UV Paint"].raise_()  # a tab in the right-hand column
     n = len(window.doc.project.influence.areas)
     index = add_area_by_click(window, qtbot)
     assert index == n and len(window.doc.project.influence.areas) == n + 1
@@ -550,11 +551,13 @@ def test_a_click_with_mirror_through_the_mesh_paints_both_cheeks_in_one_step(
 def test_a_dab_on_the_uv_canvas_is_mirrored_through_the_mesh(open_window, sample, qtbot):
     window = open_active(open_window, qtbot, warped_sample(sample))
     tools = window.mask_tools
-    window.docks["UV Paint"].show()
     index = add_area_by_click(window, qtbot)
     area = window.doc.project.influence.areas[index]
     choose_mirror(window, "mesh")
+    window.docks["UV Paint"].show()
+    window.docks["UV Paint"].raise_()  # a tab in the right-hand column, behind Areas
     view = tools.canvas.view.viewport()
+    qtbot.waitUntil(lambda: not view.visibleRegion().isEmpty())
     x, y = warped_pixel(window, "forehead right")
     hover(qtbot, view, canvas_point(window, x, y))
     mirror_cursor = tools.canvas.mirror_cursor

@@ -39,6 +39,7 @@ def test_the_canvas_shows_the_tiles_and_a_stroke_lands_in_the_skin_tile(
                                  not_face=["eye_L", "eye_R", "teeth"])
     window = open_window(project)
     window.docks["UV Paint"].show()
+    window.docks["UV Paint"].raise_()  # a tab in the right-hand column
     panel = window.mask_tools.panel
     add = next(b for b in panel.findChildren(QPushButton) if b.text() == "Add")
     qtbot.mouseClick(add, Qt.MouseButton.LeftButton)

@@ -20,12 +20,20 @@ Array = np.ndarray
 DEPTH_BIAS = 2e-4  # in clip-space z per w: enough to win over the surface a vertex lies on
 
 
-def vector_lines(positions: Array, wdv: WdvSetup, glyph_length: float) -> tuple[Array, Array]:
+def vector_lines(positions: Array, wdv: WdvSetup, glyph_length: float,
+                 only: str | None = None, others: float | None = None) -> tuple[Array, Array]:
     """Line segments (2 per authored vertex of every enabled area) and their RGBA colours: tail
-    at the vertex in a dim tone, head along the direction in the area's full colour."""
+    at the vertex in a dim tone, head along the direction in the area's full colour.
+
+    With ``only`` (an area's name) that area is drawn as above and the others, so that a face
+    with a dozen areas is not buried in needles, not at all or (``others``, an opacity) faint.
+    """
     starts, ends, colours = [], [], []
     for area in wdv.areas:  # loops over areas, each vectorised over its vertices
         if not area.enabled:
+            continue
+        opacity = 1.0 if only is None or area.name == only else others
+        if opacity is None:
             continue
         idx = np.flatnonzero(area.authored)
         if len(idx) == 0:
@@ -34,8 +42,8 @@ def vector_lines(positions: Array, wdv: WdvSetup, glyph_length: float) -> tuple[
         starts.append(p)
         ends.append(p + area.directions[idx] * glyph_length)
         c = np.asarray(area.colour, np.float32) / 255.0
-        colours.append(np.broadcast_to(np.r_[c * 0.45, 0.9], (len(idx), 4)))
-        colours.append(np.broadcast_to(np.r_[c, 1.0], (len(idx), 4)))
+        colours.append(np.broadcast_to(np.r_[c * 0.45, 0.9 * opacity], (len(idx), 4)))
+        colours.append(np.broadcast_to(np.r_[c, opacity], (len(idx), 4)))
     if not starts:
         return np.zeros((0, 3), np.float32), np.zeros((0, 4), np.float32)
     s, e = np.concatenate(starts), np.concatenate(ends)

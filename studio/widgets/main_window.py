@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
+from PySide6.QtCore import QSize, Qt, QTimer, Signal
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence, QShowEvent
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
@@ -13,6 +13,8 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QMenu,
     QMessageBox,
+    QScrollArea,
+    QTabWidget,
     QUndoView,
     QWidget,
 )
@@ -37,12 +39,25 @@ from studio.widgets.wdv.panel import install_wdv_tools
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
+# The default layout: these panels as tabs in one right-hand column, in this order.
+RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "UV Paint")
+SIDE_WIDTH = 340  # pixels: the right-hand column
+TIMELINE_HEIGHT = 200  # pixels: the timeline strip under the viewport
 
 
 def sample_project() -> Project:
-    from studio.core.project.sample import make_sample
+    """The bundled sample: the ICT-FaceKit head, set up (built once per process)."""
+    from studio.core.setup.sample_setup import sample_project as ready
 
-    return make_sample()
+    return ready()
+
+
+class _ColumnPanel(QScrollArea):
+    """A panel of the right-hand column: asks for the column's width (so the window lays out
+    that way from its first frame) and scrolls what does not fit."""
+
+    def sizeHint(self) -> QSize:
+        return QSize(SIDE_WIDTH, super().sizeHint().height())
 
 
 class MainWindow(QMainWindow):
@@ -99,31 +114,60 @@ class MainWindow(QMainWindow):
         self.resize(round(area.width() * 0.9), round(area.height() * 0.9))
 
     def _arrange_docks(self) -> None:
-        """The default layout: panels as tabs at the sides, so the viewport keeps the room."""
-        right = [self.docks[t] for t in ("Poses", "Shading", "Wrinkle vectors", "Areas")
-                 if t in self.docks]
-        left = [self.docks[t] for t in ("UV Paint", "History") if t in self.docks]
-        for group, area in ((right, Qt.DockWidgetArea.RightDockWidgetArea),
-                            (left, Qt.DockWidgetArea.LeftDockWidgetArea)):
-            for dock in group:
-                self.addDockWidget(area, dock)
-            for dock in group[1:]:
-                self.tabifyDockWidget(group[0], dock)
-            if group:
-                group[0].raise_()
+        """The default layout, as Blender and Substance Painter lay out theirs: every panel a
+        tab in one narrow column on the right and the timeline a short strip below the
+        viewport, so the face gets most of the window (History stays hidden on the left)."""
+        right = [self.docks[t] for t in RIGHT_TABS if t in self.docks]
+        # the tabs down the column's edge, as Blender's sidebar: every title reads in full
+        self.setTabPosition(Qt.DockWidgetArea.RightDockWidgetArea, QTabWidget.TabPosition.East)
+        for dock in right:
+            self.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
+            dock.setMinimumWidth(0)  # a panel may ask for room; the column's width is ours
+        for dock in right[1:]:
+            self.tabifyDockWidget(right[0], dock)
+        for dock in right:
+            self._raise_on_toggle(dock)
+        if right:
+            right[0].raise_()
+        self.addDockWidget(Qt.DockWidgetArea.LeftDockWidgetArea, self.docks["History"])
+        if "Timeline" in self.docks:
+            self.addDockWidget(Qt.DockWidgetArea.BottomDockWidgetArea, self.docks["Timeline"])
+
+    def _raise_on_toggle(self, dock: QDockWidget) -> None:
+        """A panel's toggle (View menu, toolbar) brings a panel that sits behind another tab
+        to the front instead of closing it, and raises a panel it opens."""
+        on_screen = {"now": False}  # in front of its tab group (a closed one keeps its last)
+        dock.visibilityChanged.connect(
+            lambda visible: None if dock.isHidden() else on_screen.update(now=visible))
+
+        def toggled(checked: bool) -> None:
+            if not checked and not on_screen["now"] and not dock.isFloating():
+                dock.show()  # it was open, behind another tab: the user asked to see it
+            if dock.isVisible():
+                dock.raise_()
+
+        dock.toggleViewAction().triggered.connect(toggled)
 
     def _default_dock_sizes(self) -> None:
-        """Side panels narrow and the timeline short, leaving the viewport most of the window
-        (sizes apply only to a shown window)."""
-        sides = [d for t, d in self.docks.items() if t in ("UV Paint", "Poses")]
-        self.resizeDocks(sides, [330] * len(sides), Qt.Orientation.Horizontal)
+        """The side column narrow and the timeline short (sizes apply only to a shown window)."""
+        shown = [d for t, d in self.docks.items() if t in RIGHT_TABS and not d.isHidden()]
+        if shown:
+            self.resizeDocks(shown[:1], [SIDE_WIDTH], Qt.Orientation.Horizontal)
         if "Timeline" in self.docks:
-            self.resizeDocks([self.docks["Timeline"]], [220], Qt.Orientation.Vertical)
+            self.resizeDocks([self.docks["Timeline"]], [TIMELINE_HEIGHT], Qt.Orientation.Vertical)
 
     def _add_dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> None:
         dock = QDockWidget(title, self)
         dock.setObjectName(f"dock:{title}")
-        dock.setWidget(widget)
+        if title in RIGHT_TABS and title != "UV Paint":  # (the canvas pans and zooms itself)
+            # narrower than it asks, a panel scrolls: the column stays put
+            scroll = _ColumnPanel()
+            scroll.setWidget(widget)
+            scroll.setWidgetResizable(True)
+            scroll.setFrameShape(QScrollArea.Shape.NoFrame)
+            dock.setWidget(scroll)
+        else:
+            dock.setWidget(widget)
         self.addDockWidget(area, dock)
         self.docks[title] = dock
 
@@ -172,7 +216,7 @@ class MainWindow(QMainWindow):
 
         view = self.menus["View"]
         numpad_period = QKeySequence(Qt.Key.Key_Period | Qt.KeyboardModifier.KeypadModifier)
-        frame = self._action(view, "&Frame Face", self.doc.frame_face,
+        frame = self._action(view, "&Frame Face", self.frame_face_front,
                              ["Home", numpad_period, "F"],
                              "The face from its front, filling the view (Home, numpad ., F)")
         everything = self._action(view, "Frame &All", self.doc.frame_all, "Shift+Home",
@@ -192,6 +236,14 @@ class MainWindow(QMainWindow):
         help_menu = self.menus["Help"]
         self._action(help_menu, "&Navigation…", self.show_navigation_help, "F1")
         self._action(help_menu, "&About Wrinkle Studio", self.show_about)
+
+    def frame_face_front(self) -> None:
+        """View ▸ Frame Face (F, Home): the face straight from its front, filling the view,
+        whatever way the camera was turned; the document's own framing (on opening a
+        project) keeps its three-quarter view."""
+        camera = self.doc.camera
+        camera.yaw, camera.pitch = 0.0, 0.0
+        self.doc.frame_face()
 
     def _anti_aliasing_menu(self, menu: QMenu) -> None:
         """Samples per pixel in the viewport, remembered; choices this driver cannot draw are
@@ -312,7 +364,7 @@ class MainWindow(QMainWindow):
         return self.save_to(self.doc.path)
 
     def save_as(self) -> bool:
-        start = str(Path(self._last_folder()) / f"{self.doc.display_name}.wrinkle")
+        start = str(Path(self._save_folder()) / f"{self.doc.display_name}.wrinkle")
         name, _ = QFileDialog.getSaveFileName(self, "Save project as", start, PROJECT_FILTER)
         if not name:
             return False
@@ -338,6 +390,17 @@ class MainWindow(QMainWindow):
     # --- remembered settings -------------------------------------------------------------------
     def _last_folder(self) -> str:
         return str(settings().value("last_folder", str(Path.home())))
+
+    def _save_folder(self) -> str:
+        """Where Save As starts: the project's own folder; for a project not saved yet, the
+        folder its mesh was read from (where the user keeps this character's files); else
+        the last folder used."""
+        if self.doc.path is not None:
+            return str(Path(self.doc.path).parent)
+        source = self.doc.project.mesh.source
+        if source and Path(source).parent.is_dir():
+            return str(Path(source).parent)
+        return self._last_folder()
 
     def recent_files(self) -> list[str]:
         value = settings().value("recent_files", [])
@@ -373,8 +436,16 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         if state is not None:
             self.restoreState(state)
-        else:
-            QTimer.singleShot(0, self._default_dock_sizes)
+        self._sized = state is not None  # the default sizes wait for the first show
+
+    def showEvent(self, event: QShowEvent) -> None:
+        """The default dock sizes, once, when the window first shows: a dock takes a size only
+        once the window has laid it out."""
+        super().showEvent(event)
+        if not self._sized:
+            self._sized = True
+            self.layout().activate()
+            self._default_dock_sizes()
 
     def reset_layout(self) -> None:
         self.restoreState(self._default_state)

@@ -16,6 +16,9 @@ _SIDED = {  # name: (|x|, y) on the character's left; mirrored for the right
     "brow": (0.45, 0.42),
     "eye corner": (0.72, 0.22),
     "lower eyelid": (0.45, 0.05),
+    # the nasal side, beside the bridge and the wing: where a sneer (noseSneer) bunches the
+    # skin; without it that compression was named after the lower eyelid
+    "side of the nose": (0.2, -0.05),
     "cheek": (0.62, -0.3),
     "nasolabial fold": (0.33, -0.42),
     "mouth corner": (0.38, -0.62),

@@ -96,11 +96,11 @@ class LinesItem(QGraphicsItem):
     with PySide6 6.12 on Python 3.11 every void-returning call drops a reference to None.)
     """
 
-    def __init__(self) -> None:
+    def __init__(self, colour: QColor | None = None) -> None:
         super().__init__()
         self.lines: list[QLineF] = []
         self.rect = QRectF()
-        self.pen = QPen(QColor(255, 255, 255, 110))
+        self.pen = QPen(colour if colour is not None else QColor(255, 255, 255, 110))
         self.pen.setCosmetic(True)
         self.pen.setWidthF(0.8)
 
@@ -117,6 +117,15 @@ class LinesItem(QGraphicsItem):
     def paint(self, painter: QPainter, option, widget=None) -> None:
         painter.setPen(self.pen)
         painter.drawLines(self.lines)
+
+
+def outline_edges(triangles: np.ndarray) -> np.ndarray:
+    """(E, 2) the edges of a set of triangles that only one of them uses: the outline of
+    each piece they make, without the edges inside it."""
+    e = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
+                                triangles[:, [2, 0]]]), axis=1)
+    edges, counts = np.unique(e, axis=0, return_counts=True)
+    return edges[counts == 1]
 
 
 class PaintView(QGraphicsView):
@@ -275,8 +284,10 @@ class UvCanvas(QWidget):
         self.scene.addItem(self.masks)
         self.overlap_item = BufferItem(1, 1)
         self.scene.addItem(self.overlap_item)
-        self.wire = LinesItem()
+        self.wire = LinesItem()  # the skin's edges: what the masks are painted over
         self.scene.addItem(self.wire)
+        self.outline = LinesItem(QColor(150, 170, 200, 120))  # the rest (eyes, teeth…): outlined
+        self.scene.addItem(self.outline)
         self.cursor_item = QGraphicsEllipseItem()
         cursor_pen = QPen(QColor(255, 255, 255, 230))
         cursor_pen.setCosmetic(True)
@@ -314,18 +325,28 @@ class UvCanvas(QWidget):
         self.hint = QLabel("")
         self.hint.setStyleSheet("color: #9a9a9a;")
         self.hint.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
-        head = QHBoxLayout()
-        head.setContentsMargins(4, 2, 4, 2)
-        head.addWidget(self.backdrop)
-        head.addWidget(self.tile)
-        head.addWidget(self.show_all)
-        head.addWidget(self.show_wire)
-        head.addStretch(1)
+        for combo in (self.backdrop, self.tile):  # the canvas lives in a narrow column
+            combo.setSizeAdjustPolicy(
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            combo.setMinimumContentsLength(8)
+        self.show_wire.setText("Wireframe")
+        self.show_wire.setToolTip("The skin's UV edges, and the outline of the rest (eyes, "
+                                  "lashes, teeth)")
+        head = QHBoxLayout()  # two short rows: the canvas lives in a narrow column
+        head.setContentsMargins(4, 2, 4, 0)
+        head.addWidget(self.backdrop, 1)
+        head.addWidget(self.tile, 1)
         head.addWidget(fit)
+        shows = QHBoxLayout()
+        shows.setContentsMargins(4, 0, 4, 2)
+        shows.addWidget(self.show_all)
+        shows.addWidget(self.show_wire)
+        shows.addStretch(1)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.setSpacing(0)
         layout.addLayout(head)
+        layout.addLayout(shows)
         layout.addWidget(self.view, 1)
         layout.addWidget(self.hint)
 
@@ -333,6 +354,7 @@ class UvCanvas(QWidget):
         self.tile.currentIndexChanged.connect(lambda _: self.view.fit())
         self.show_all.toggled.connect(self._toggle_all)
         self.show_wire.toggled.connect(self.wire.setVisible)
+        self.show_wire.toggled.connect(self.outline.setVisible)
         fit.clicked.connect(self.view.fit)
         d = document
         d.projectReplaced.connect(self.rebuild)
@@ -418,11 +440,17 @@ class UvCanvas(QWidget):
                                                           h / max(pix.height(), 1)))
 
     def _load_wire(self) -> None:
-        """The UV layout's edges (render vertices, so seams show as chart borders)."""
-        mesh = self.doc.project.mesh
+        """The UV layout's edges (render vertices, so seams show as chart borders): every edge
+        of the skin, only the outline of what is not face (eyes, lashes, teeth), which often
+        lies over the skin's tile and would bury its wireframe."""
+        project = self.doc.project
+        mesh = project.mesh
         w, h = self.mask_size()
         pts = np.c_[mesh.uvs[:, 0] * w, (1.0 - mesh.uvs[:, 1]) * h].astype(float)
-        self.wire.set_lines(pts[mesh_edges(mesh.triangles)], QRectF(0, 0, w, h))
+        skin = project.skin_triangles()
+        rect = QRectF(0, 0, w, h)
+        self.wire.set_lines(pts[mesh_edges(mesh.triangles[skin])], rect)
+        self.outline.set_lines(pts[outline_edges(mesh.triangles[~skin])], rect)
 
     # --- the mask overlay ----------------------------------------------------------------------
     def _rgba(self, x: int, y: int, w: int, h: int) -> np.ndarray:

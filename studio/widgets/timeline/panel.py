@@ -13,9 +13,10 @@ from collections.abc import Callable
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QPointF, Qt
+from PySide6.QtCore import QPointF, QSignalBlocker, QSize, Qt
 from PySide6.QtGui import QAction, QColor, QIcon, QKeySequence
 from PySide6.QtWidgets import (
+    QAbstractScrollArea,
     QCheckBox,
     QComboBox,
     QDoubleSpinBox,
@@ -23,6 +24,8 @@ from PySide6.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QPushButton,
+    QScrollArea,
+    QScrollBar,
     QSpinBox,
     QStyle,
     QToolButton,
@@ -42,6 +45,13 @@ ROW_PAD = 0.12  # empty part of a track row above and below its 0..1 band (row u
 ROW_BAND = 1.0 - 2 * ROW_PAD
 VALUE_SNAP = 0.05
 HIT_PIXELS = 8.0
+PANEL_HEIGHT = 176  # pixels the timeline asks for: its dock is then about 200 high
+CONTROLS_WIDTH = 250  # pixels: the transport and key controls left of the tracks
+ROW_PIXELS = 16  # the height a track row needs for its name to be read
+ROWS_AT_LEAST = 5  # rows kept on screen however short the dock; the rest scroll
+LEGEND_ENTRIES = 10  # curves the legend names (two columns), so it stays as short as the plot
+CURVES_PIXELS = 60  # the curve plot's least height
+FOLLOW_MARGIN = 0.05  # share of the shown time kept before the playhead when the view pages
 INTERPOLATION_LABELS = {"linear": "Linear", "cosine": "Cosine (Parke)",
                         "smooth": "Smooth (ease in/out)", "constant": "Constant (hold)"}
 
@@ -82,6 +92,15 @@ class TrackViewBox(pg.ViewBox):
         ev.accept()
         self.panel.track_clicked(self.mapSceneToView(ev.scenePos()), ev.modifiers())
 
+    def wheelEvent(self, ev, axis=None) -> None:
+        """Shift+wheel scrolls the rows (when they do not all fit); the wheel zooms time."""
+        if ev.modifiers() & Qt.KeyboardModifier.ShiftModifier and self.panel.rows.isVisible():
+            ev.accept()
+            steps = -int(np.sign(ev.delta())) if ev.delta() else 0
+            self.panel.rows.setValue(self.panel.rows.value() + steps)
+            return
+        super().wheelEvent(ev, axis)
+
     def mouseDragEvent(self, ev, axis=None) -> None:
         if ev.button() != Qt.MouseButton.LeftButton:
             super().mouseDragEvent(ev, axis)
@@ -105,6 +124,7 @@ class TimelinePanel(QWidget):
         self.current_pose: str | None = None  # the row last clicked: where K keys
         self._drag: dict | None = None
         self._updating = False
+        self._framed: tuple[int, int] | None = None  # the frame range the time axis last fitted
         self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
         self._build()
         self._shortcuts()
@@ -118,17 +138,28 @@ class TimelinePanel(QWidget):
         self._project_replaced()
 
     # --- layout --------------------------------------------------------------------------------
+    def sizeHint(self) -> QSize:
+        """A short strip under the viewport, from the window's first frame on."""
+        return QSize(super().sizeHint().width(), PANEL_HEIGHT)
+
     def _build(self) -> None:
         """The controls on the left, the tracks above the curves on the right."""
         layout = QHBoxLayout(self)
         layout.setContentsMargins(4, 2, 4, 2)
+        layout.setSpacing(2)
+        self.rows = QScrollBar(Qt.Orientation.Vertical)
+        self.rows.setToolTip("More key poses than rows fit: scroll them (Shift+wheel)")
+        self.rows.hide()
         layout.addWidget(self._build_controls())
         layout.addWidget(self._build_graphs(), 1)
+        layout.addWidget(self.rows)
+        self.rows.valueChanged.connect(self._fit_rows)
 
     def _build_controls(self) -> QWidget:
         """Transport, frame, rate and range, the selected keys' mode and weight, curve mode."""
         controls = QVBoxLayout()
-        controls.setSpacing(4)
+        controls.setSpacing(2)
+        controls.setContentsMargins(0, 0, 0, 0)
         transport = QHBoxLayout()
         transport.setSpacing(2)
         self.buttons: dict[str, QToolButton] = {}
@@ -160,6 +191,7 @@ class TimelinePanel(QWidget):
 
         form = QFormLayout()
         form.setContentsMargins(0, 0, 0, 0)
+        form.setVerticalSpacing(2)
         self.fps = QDoubleSpinBox()
         self.fps.setRange(1.0, 240.0)
         self.fps.setDecimals(2)
@@ -190,8 +222,10 @@ class TimelinePanel(QWidget):
         self.key_value.setKeyboardTracking(False)
         self.key_value.setToolTip("Weight of the selected keys (0 = neutral, 1 = the full pose)")
         self.key_value.valueChanged.connect(self._value_chosen)
-        form.addRow("Key", self.interpolation)
-        form.addRow("Weight", self.key_value)
+        key_row = QHBoxLayout()
+        key_row.addWidget(self.interpolation, 1)
+        key_row.addWidget(self.key_value)
+        form.addRow("Key", key_row)
         controls.addLayout(form)
         self.sequence = QPushButton("Sequence all poses")
         self.sequence.setToolTip("Replace the animation by neutral → pose → neutral for each "
@@ -206,28 +240,37 @@ class TimelinePanel(QWidget):
         self.curve_mode.setCurrentIndex(2)
         self.curve_mode.currentIndexChanged.connect(self._refresh_curves)
         controls.addWidget(self.curve_mode)
-        self.hint = QLabel("Click a row: add a key · drag: move it\nDel · Ctrl+C/V · K: key "
-                           "the pose slider")
-        self.hint.setStyleSheet("color: gray; font-size: 8pt;")
-        controls.addWidget(self.hint)
         controls.addStretch(1)
         side = QWidget()
         side.setLayout(controls)
-        side.setFixedWidth(250)
-        return side
+        # a short dock scrolls the controls rather than hiding the graphs
+        scroll = QScrollArea()
+        scroll.setWidget(side)
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QScrollArea.Shape.NoFrame)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        scroll.setSizeAdjustPolicy(QAbstractScrollArea.SizeAdjustPolicy.AdjustIgnored)
+        scroll.setFixedWidth(CONTROLS_WIDTH + scroll.verticalScrollBar().sizeHint().width())
+        scroll.setMinimumHeight(0)
+        return scroll
 
     def _build_graphs(self) -> pg.GraphicsLayoutWidget:
         """One graphics layout: the tracks above the curves, sharing the time axis; the legend
         sits in its own column so that it never hides a curve."""
         self.view = pg.GraphicsLayoutWidget()
         self.view.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
+        self.view.setToolTip("Click a row: add a key · drag a key: move it · drag elsewhere: "
+                             "scrub\nDel · Ctrl+C/V · K: key the pose slider · wheel: zoom "
+                             "time · Shift+wheel: scroll rows")
         self.view.ci.setSpacing(2)
         self.track_box = TrackViewBox(self)
         self.tracks = self.view.addPlot(row=0, col=0, viewBox=self.track_box)
         self.tracks.hideButtons()
         self.tracks.showGrid(x=True, y=False, alpha=0.15)
         self.tracks.getAxis("left").setWidth(110)
+        self.tracks.hideAxis("bottom")  # the curves' axis below says the frames of both
         self.tracks.setMenuEnabled(False)
+        self.track_box.sigResized.connect(self._fit_rows)
         self.curves = self.view.addPlot(row=1, col=0)
         self.curves.hideButtons()
         self.curves.showGrid(x=True, y=True, alpha=0.15)
@@ -240,8 +283,9 @@ class TimelinePanel(QWidget):
         self.legend = pg.LegendItem(colCount=2, labelTextSize="7pt", verSpacing=-6)
         self.view.addItem(self.legend, row=1, col=1)
         self.view.ci.layout.setColumnFixedWidth(1, 230)
-        self.view.ci.layout.setRowStretchFactor(0, 3)
-        self.view.ci.layout.setRowStretchFactor(1, 2)
+        self.view.ci.layout.setRowMinimumHeight(1, CURVES_PIXELS)
+        self.view.ci.layout.setRowStretchFactor(0, 1)
+        self.view.ci.layout.setRowStretchFactor(1, 1)
         self.view.scene().sigMouseClicked.connect(self._curve_clicked)
 
         self.range_region = pg.LinearRegionItem(movable=False, brush=pg.mkBrush(255, 255, 255, 12),
@@ -266,6 +310,7 @@ class TimelinePanel(QWidget):
         self._line_pool: list[pg.InfiniteLine] = []
         self._curve_pool: list[pg.PlotDataItem] = []
         self._legend_labels: list = []
+        self._more = pg.PlotDataItem(pen=None)  # the legend's "+N more" line: no curve of its own
         self._retired: list = []
         return self.view
 
@@ -381,19 +426,58 @@ class TimelinePanel(QWidget):
             curve.setFillLevel(row + ROW_PAD)
             self.track_curves[pose] = curve
             line.setValue(row)
-        # a readable row per pose however small the dock: the curves give way first
-        self.view.ci.layout.setRowMinimumHeight(0, 20 * max(len(poses), 1) + 26)
+        # a few readable rows however short the dock (the rest scroll), and the curves below
+        self.view.ci.layout.setRowMinimumHeight(
+            0, ROW_PIXELS * min(max(len(poses), 1), ROWS_AT_LEAST) + 8)
         axis = self.tracks.getAxis("left")
         axis.setTicks([[(self.row_of(p) + 0.5, pose_label(p)) for p in poses], []])
-        self.tracks.setYRange(0, max(len(poses), 1), padding=0.02)
+        self.rows.setValue(0)
+        self._fit_rows()
         self.refresh()
         self.frame_all_time()
 
+    def _fit_rows(self) -> None:
+        """Show as many whole track rows as fit at a readable height, from the scroll bar's
+        row down; the bar shows only when some rows do not fit."""
+        count = max(len(self.poses), 1)
+        fit = max(int(self.track_box.height() // ROW_PIXELS), 1)
+        if fit >= count:
+            self.rows.setVisible(False)
+            self.tracks.setYRange(0, count, padding=0.02)
+            return
+        blocker = QSignalBlocker(self.rows)
+        self.rows.setRange(0, count - fit)
+        self.rows.setPageStep(fit)
+        del blocker
+        self.rows.setVisible(True)
+        top = self.rows.value()  # rows hidden above
+        self.tracks.setYRange(count - top - fit, count - top, padding=0)
+
+    def visible_rows(self) -> list[str]:
+        """The poses whose track rows are on screen, top first."""
+        lo, hi = self.track_box.viewRange()[1]
+        return [p for p in self.poses if lo - 1e-6 <= self.row_of(p) and self.row_of(p) + 1
+                <= hi + 1e-6]
+
     def frame_all_time(self) -> None:
+        """Fit the time axis to the frame range (and every key beyond it)."""
         timeline = self.doc.project.timeline
-        span = timeline.end - timeline.start
-        self.tracks.setXRange(timeline.start - 0.02 * span,
-                                            timeline.end + 0.02 * span, padding=0)
+        frames = [k.frame for t in timeline.tracks for k in t.keys]
+        lo, hi = min([timeline.start, *frames]), max([timeline.end, *frames])
+        span = max(hi - lo, 1)
+        self.tracks.setXRange(lo - 0.02 * span, hi + 0.02 * span, padding=0)
+        self._framed = (timeline.start, timeline.end)
+
+    def _follow_playhead(self) -> None:
+        """Page the time axis when the playhead leaves it (playing, stepping, jumping), so
+        that the playhead is always on screen."""
+        lo, hi = self.track_box.viewRange()[0]
+        frame = self.doc.frame
+        if lo <= frame <= hi:
+            return
+        span = hi - lo
+        start = frame - FOLLOW_MARGIN * span
+        self.tracks.setXRange(start, start + span, padding=0)
 
     def refresh(self) -> None:
         """Redraw keys, curves and controls from the timeline (after any edit or undo)."""
@@ -406,6 +490,8 @@ class TimelinePanel(QWidget):
         finally:
             self._updating = False
         self.range_region.setRegion((timeline.start, timeline.end))
+        if self._framed is not None and self._framed != (timeline.start, timeline.end):
+            self.frame_all_time()  # a new range (sequencing, a capture, typed): show it all
         state = TimelineState.of(timeline)
         self.selection = {(p, i) for p, i in self.selection if i < len(state.keys(p))}
         frames = self._sample_frames()
@@ -475,8 +561,11 @@ class TimelinePanel(QWidget):
             self._legend_labels = labels
             self._retired.extend(self.legend.items)  # keep Python wrappers alive (see _pooled)
             self.legend.clear()
-            for curve, (_, _, label) in zip(curves, shown, strict=True):
+            listed = len(shown) if len(shown) <= LEGEND_ENTRIES else LEGEND_ENTRIES - 1
+            for curve, (_, _, label) in zip(curves[:listed], shown[:listed], strict=True):
                 self.legend.addItem(curve, label)
+            if listed < len(shown):  # a legend taller than the plot would push it off screen
+                self.legend.addItem(self._more, f"+{len(shown) - listed} more")
 
     def _show_selection(self) -> None:
         state = TimelineState.of(self.doc.project.timeline)
@@ -505,6 +594,7 @@ class TimelinePanel(QWidget):
             self.curve_playhead.setValue(frame)
         finally:
             self._updating = False
+        self._follow_playhead()
         seconds = (frame - timeline.start) / timeline.fps
         self.frame_label.setText(f"Frame {frame:.0f}   ·   {seconds:.2f} s")
 

@@ -57,7 +57,6 @@ class PosePanel(QScrollArea):
         self.doc = document
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        self.setMinimumWidth(300)
         self.pose_rows: dict[str, SliderRow] = {}
         self.area_rows: list[SliderRow] = []
         self.area_bars: list[ActivationBar] = []
@@ -94,7 +93,9 @@ class PosePanel(QScrollArea):
 
         areas = QGroupBox("Influence areas (technique 1)")
         form = QFormLayout(areas)
-        form.addRow(QLabel("Slider: the area's own activation. Bar: with the pose links."))
+        hint = QLabel("Slider: the area's own activation. Bar: with the pose links.")
+        hint.setWordWrap(True)  # the panel is a narrow column
+        form.addRow(hint)
         self.area_rows, self.area_bars = [], []
         for index, area in enumerate(self.doc.project.influence.areas):
             row = SliderRow(area.name)

@@ -38,5 +38,5 @@ def install_timeline_tools(window) -> TimelinePanel:
     panel = TimelinePanel(window.doc)
     window.timeline_panel = panel
     window._add_dock("Timeline", panel, Qt.DockWidgetArea.BottomDockWidgetArea)
-    panel.setMinimumHeight(265)
+    panel.setMinimumHeight(150)
     return panel

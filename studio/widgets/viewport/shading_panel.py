@@ -15,6 +15,7 @@ TECHNIQUE_CHOICES = [*((t.label, t.key) for t in TECHNIQUE_LIST if t.key != "fla
                      ("Split: t1 | t2 | automatic", "split")]
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Wrinkle visibility (heat map)", "heat"),
                ("Normals", "normals"), ("UV checker", "uv")]
+COMBO_CHARACTERS = 16  # what a closed list shows of its choice before eliding it
 RELIEF_RANGE = 0.05  # the relief depth slider's end, as a fraction of the face's size
 RELIEFS = [("Off (normal maps only)", "off"), ("Displace (in silhouette)", "displace"),
            ("Parallax (cheaper)", "parallax")]
@@ -89,6 +90,10 @@ class ShadingPanel(QWidget):
         t2_form.addRow(self.cone)
         layout.addWidget(t2_box)
         layout.addStretch(1)
+        for combo in self.findChildren(QComboBox):  # a narrow column; the lists show in full
+            combo.setSizeAdjustPolicy(
+                QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+            combo.setMinimumContentsLength(COMBO_CHARACTERS)
         for signal in (document.viewChanged, document.wdvChanged, document.wdvSettingsChanged,
                        document.projectReplaced, document.currentWdvAreaChanged):
             signal.connect(self._show_values)

@@ -244,13 +244,19 @@ class WdvPanel(QScrollArea):
         c_layout.addLayout(buttons)
         self.vectors_check = QCheckBox("Show vectors")
         self.vectors_check.setChecked(True)
+        self.vectors_check.setToolTip("The current area's vectors over the face, while this "
+                                      "panel is open")
         self.vectors_check.toggled.connect(self._show_vectors)
+        self.all_areas_check = QCheckBox("All areas")
+        self.all_areas_check.setToolTip("The other areas' vectors too, faint")
+        self.all_areas_check.toggled.connect(self.tools.set_all_areas)
         heat = QCheckBox("Heat map")
         heat.setToolTip("Show each vertex's wrinkle visibility while you move the pose sliders")
         heat.toggled.connect(lambda on: self.doc.set_view(debug_view="heat" if on else "shaded"))
         self.heat_check = heat
         row2 = QHBoxLayout()
         row2.addWidget(self.vectors_check)
+        row2.addWidget(self.all_areas_check)
         row2.addWidget(heat)
         c_layout.addLayout(row2)
         self.status = QLabel()
@@ -517,6 +523,8 @@ def install_wdv_tools(window) -> WdvTools:
     tools = WdvTools(window.doc, window.viewport)
     panel = WdvPanel(window.doc, tools)
     window._add_dock("Wrinkle vectors", panel, Qt.DockWidgetArea.RightDockWidgetArea)
+    dock = window.docks["Wrinkle vectors"]
+    dock.visibilityChanged.connect(tools.set_panel_open)  # raised tab: shown; hidden: not
     action = QAction("Select vertices", window)
     action.setCheckable(True)
     action.setShortcut(QKeySequence("S"))
@@ -526,6 +534,9 @@ def install_wdv_tools(window) -> WdvTools:
     def toggled(on: bool) -> None:
         window.viewport.set_tool(tools.tool if on else None)
         panel.tool_active(on)
+        if on:  # the tool's options and the vectors it edits
+            dock.show()
+            dock.raise_()
 
     action.toggled.connect(toggled)
     window.tools.addAction(action)

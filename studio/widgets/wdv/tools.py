@@ -15,12 +15,13 @@ from PySide6.QtCore import QObject, Signal
 
 from studio.core.mesh import selection as sel
 from studio.core.mesh.geometry import vertex_normals
-from studio.core.wrinkles.wdv import WdvArea
+from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 from studio.render.wdv_overlay import WdvOverlay, vector_lines
 from studio.widgets.document import Document
 from studio.widgets.wdv.select_tool import CLICK_RADIUS, SelectTool, pick_vertex
 
 GLYPH_FRACTION = 0.02  # vector glyph length, as a fraction of the face's size
+OTHERS_OPACITY = 0.25  # the other areas' vectors, when all are asked for
 
 
 class WdvTools(QObject):
@@ -35,6 +36,10 @@ class WdvTools(QObject):
         self.tool = SelectTool(self)
         self.select_through = False
         self.cone_paint_value = 8.0  # degrees the cone brush paints (Ctrl paints "area's angle")
+        # vectors follow the task: the current area's while its panel is open, the others
+        # (faint) only when asked; a face with a dozen areas is otherwise all needles
+        self.panel_open = False
+        self.all_areas = False
         self._posed: np.ndarray | None = None
         self._normals: np.ndarray | None = None
         self._edges: np.ndarray | None = None
@@ -59,7 +64,18 @@ class WdvTools(QObject):
 
     def _current_changed(self) -> None:
         self._selection_changed()
+        self._update_vectors()
         self.currentAreaChanged.emit()
+
+    def set_panel_open(self, on: bool) -> None:
+        """The wrinkle vectors panel shown (or hidden behind another tab)."""
+        self.panel_open = on
+        self._update_vectors()
+
+    def set_all_areas(self, on: bool) -> None:
+        """Every area's vectors, the current one's bright and the others faint."""
+        self.all_areas = on
+        self._update_vectors()
 
     # --- caches from the document --------------------------------------------------------------
     def _project_changed(self) -> None:
@@ -92,9 +108,17 @@ class WdvTools(QObject):
         self.viewport.update()
 
     def _update_vectors(self) -> None:
+        """The vectors the overlay draws: none while the panel is closed, else the current
+        area's, and the others faint when all are asked for."""
         lo, hi = self.doc.project.mesh.bounds()
         length = GLYPH_FRACTION * float(np.linalg.norm(hi - lo))
-        self.overlay.set_vectors(*vector_lines(self.posed(), self.doc.project.wdv, length))
+        wdv = self.doc.project.wdv
+        if not self.panel_open:
+            wdv = WdvSetup([])
+        current = self.current_area
+        self.overlay.set_vectors(*vector_lines(
+            self.posed(), wdv, length, only=current.name if current is not None else "",
+            others=OTHERS_OPACITY if self.all_areas else None))
         self.viewport.update()
 
     def posed(self) -> np.ndarray:
