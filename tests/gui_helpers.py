@@ -28,8 +28,23 @@ def viewport_marks(window) -> dict[str, tuple[int, int]]:
     return landmark_pixels(window.doc.project, window.doc.camera, w, h)
 
 
+def bring_forward(widget) -> None:
+    """Raise the dock a widget sits in, as a person clicks its tab first: panels share tabs,
+    and the layout a window restores may have another one in front."""
+    from PySide6.QtWidgets import QDockWidget
+
+    parent = widget.parentWidget()
+    while parent is not None and not isinstance(parent, QDockWidget):
+        parent = parent.parentWidget()
+    if parent is not None:
+        parent.show()
+        parent.raise_()
+        QApplication.processEvents()
+
+
 def drag_slider(qtbot, slider: QSlider, fraction: float) -> None:
     """Press on the handle at the left end and drag it to ``fraction`` of the groove."""
+    bring_forward(slider)
     assert slider.value() == slider.minimum()
     y = slider.height() // 2
     start = QPoint(4, y)

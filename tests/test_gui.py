@@ -13,7 +13,7 @@ from PySide6.QtCore import Qt
 from studio.core.project.reader import load_project
 from studio.core.wrinkles.wdv import WdvSetup
 from studio.widgets.viewport.viewport import split_columns
-from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
+from tests.gui_helpers import bring_forward, drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
 
 
@@ -31,6 +31,7 @@ def test_window_starts_on_the_sample_face(window):
 
 
 def test_surprise_slider_wrinkles_the_forehead_and_undo_restores_it(window, qtbot):
+    bring_forward(window.pose_panel)  # the Poses tab, as a person would click it first
     before = viewport_image(window)
     marks = viewport_marks(window)
     drag_slider(qtbot, window.pose_panel.pose_rows["surprise"].slider, 1.0)
