@@ -95,3 +95,26 @@ def test_the_sample_is_the_head_set_up_with_a_timeline_of_expressions() -> None:
         assert all(weights[p] == pytest.approx(1.0) for p in poses)
         assert sum(w > 0 for w in weights.values()) == len(poses)
     assert sample_project() is not project  # a copy each time: callers may change it
+
+
+@pytest.mark.core
+@pytest.mark.parametrize("subset", [True, False])
+def test_the_face_box_ends_at_the_chin_and_names_each_pose_after_its_place(subset: bool) -> None:
+    """The face is the skin the poses deform; the neck under the chin, pulled by the jaw
+    opening alone, is not: the box's bottom is the chin, so F frames the face and the report
+    names each pose's place on this real head, with a few poses or all 53."""
+    from studio.core.project.ict_head import landmark_vertices
+    from studio.core.setup.auto_setup import suggest_setup
+
+    named = {"browInnerUp_L": ("forehead", "left brow"), "eyeSquint_L": ("left lower eyelid",),
+             "noseSneer_L": ("left side of the nose",),
+             "mouthSmile_L": ("left nasolabial fold", "left cheek"),
+             "mouthStretch_L": ("left mouth corner",), "jawOpen": ("chin",)}
+    project = load_ict_head(poses=[*named, "browDown_L", "mouthPucker"] if subset else None)
+    frame = face_frame(project)
+    marks = frame.to_face(project.mesh.rest[landmark_vertices()].astype(np.float64))
+    assert -0.95 < marks[8, 1] < -0.75  # the chin, at the bottom of the face box
+    assert 0.35 < marks[24, 1] < 0.8  # the brows in its upper part
+    report = suggest_setup(project, locate=face_locator(frame), poses=list(named))
+    for pose, places in named.items():
+        assert report.regions[pose] in places, (pose, report.regions[pose])

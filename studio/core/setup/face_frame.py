@@ -37,6 +37,8 @@ AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
 SNAP_DEGREES = 30.0  # a detected direction this close to an axis is taken as that axis
 DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation is face
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
+MANY_POSES = 4  # from this many poses on, the face is the skin at least two of them deform …
+SHARED_LEAST = 0.25  # … unless that is under a quarter of the skin any of them deforms
 
 # Which way poses move the skin, by ARKit name, and by words other rigs use
 _UPWARD = {"browInnerUp", "browOuterUpLeft", "browOuterUpRight", "eyeWideLeft", "eyeWideRight",
@@ -149,18 +151,47 @@ class FaceFrame:
                 "mirror_axis": self.mirror_axis, "mirror_plane": self.mirror_plane}
 
 
-def _deformation(rest: Array, poses: Sequence[Array], edges: Array) -> Array:
-    """(W,) per vertex, the largest relative change of its edges' lengths over the poses."""
+def _deformations(rest: Array, poses: Sequence[Array], edges: Array) -> Array:
+    """(P, W): per pose and vertex, the largest relative change of its edges' lengths."""
     a, b = edges[:, 0], edges[:, 1]
     rest_len = np.linalg.norm(rest[a] - rest[b], axis=1)
     ok = rest_len > 0
-    out = np.zeros(len(rest), np.float64)
-    for positions in poses:
+    out = np.zeros((len(poses), len(rest)), np.float64)
+    for row, positions in zip(out, poses, strict=True):
         length = np.linalg.norm(positions[a] - positions[b], axis=1)
         change = np.where(ok, np.abs(length / np.where(ok, rest_len, 1.0) - 1.0), 0.0)
-        np.maximum.at(out, a, change)
-        np.maximum.at(out, b, change)
+        np.maximum.at(row, a, change)
+        np.maximum.at(row, b, change)
     return out
+
+
+def _deformation(rest: Array, poses: Sequence[Array], edges: Array) -> Array:
+    """(W,) per vertex, the largest relative change of its edges' lengths over the poses."""
+    if not len(poses):
+        return np.zeros(len(rest), np.float64)
+    return _deformations(rest, poses, edges).max(axis=0)
+
+
+def _face_region(per_pose: Array, skin: Array) -> tuple[Array, Array | None]:
+    """(W,) bool: the skin the poses deform — by a tenth of the strong deformation
+    (``DEFORMED_SHARE``); and, with ``MANY_POSES`` or more, the skin at least two of them
+    deform, which bounds the face from below: the neck under the chin is pulled by a jaw
+    opening alone (the forehead up to the hairline may be raised by one brow pose alone, so
+    the top keeps the first). None for the second when the poses hardly overlap."""
+    deformed = per_pose * skin
+    largest = deformed.max(axis=0)
+    none = np.zeros(per_pose.shape[1], bool)
+    if not (largest > 0).any():
+        return none, None
+    strong = float(np.percentile(largest[largest > 0], 95))
+    if strong <= 1e-6:
+        return none, None
+    votes = (deformed > DEFORMED_SHARE * strong).sum(axis=0)
+    face = votes >= 1
+    shared = votes >= 2
+    if len(per_pose) < MANY_POSES or shared.sum() < SHARED_LEAST * face.sum():
+        return face, None
+    return face, shared
 
 
 def _edges(triangles: Array) -> Array:
@@ -184,11 +215,9 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
 
     # the face region: skin the poses deform
     face = np.zeros(len(rest), bool)
+    chin_region = None
     if poses:
-        deformed = _deformation(rest, poses, _edges(triangles)) * skin
-        strong = float(np.percentile(deformed[deformed > 0], 95)) if (deformed > 0).any() else 0
-        if strong > 1e-6:
-            face = deformed > DEFORMED_SHARE * strong
+        face, chin_region = _face_region(_deformations(rest, poses, _edges(triangles)), skin)
 
     # up
     if up is not None:
@@ -217,6 +246,8 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     basis = np.column_stack([left_vec, up_vec, front_vec])
     local = rest[region] @ basis
     lo, hi = np.percentile(local, 1, axis=0), np.percentile(local, 99, axis=0)
+    if chin_region is not None and chin_region.sum() >= 3:  # the chin, not the neck below it
+        lo[1] = np.percentile(rest[chin_region] @ up_vec, 1)
     centre_local = (lo + hi) / 2.0
     half = np.maximum((hi - lo) / 2.0 * MARGIN, 1e-3 * size)
     centre = basis @ centre_local
