@@ -35,7 +35,7 @@ FLAGGED_SHARE = 0.9  # flagged when at least this share of its weight shows noth
 # mask over a forehead of furrows puts about half its weight on the flat skin between and around
 # them (the sample face: 0.1 to 0.65), which is how wrinkles look, not a mistake
 GRID = 256
-_ROWS = 256  # rows of a map unpacked at once (a 4096² map in float64 would take 400 MB)
+_ROWS = 256  # rows of a map unpacked at once (a whole 4096² map would take 200 MB)
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ class RevealMaps:
             change = np.empty((h, w), np.float32)
             for top in range(0, h, _ROWS):
                 rows = slice(top, top + _ROWS)
-                change[rows] = reveal_difference(packed[rows, :, :2], layer[rows])
+                change[rows] = reveal_difference(packed[rows, :, :2], layer[rows], np.float32)
             self.flat[name] = _block_max(change, self.shape) < FLAT_BELOW
 
     @staticmethod

@@ -49,26 +49,28 @@ def _unit(v: Array) -> Array:
     return v / np.linalg.norm(v, axis=-1, keepdims=True)
 
 
-def unpack_normal(xy: Array) -> Array:
+def unpack_normal(xy: Array, dtype: type = np.float64) -> Array:
     """(..., 3) tangent-space unit normals from a map's x and y stored in [0, 1] (face.frag's
     ``unpack_normal``: z rebuilt, 0 where x² + y² > 1)."""
-    n = np.asarray(xy, np.float64) * 2.0 - 1.0
-    z = np.sqrt(np.maximum(1.0 - (n * n).sum(axis=-1), 0.0))
+    n = np.asarray(xy, dtype) * dtype(2.0) - dtype(1.0)
+    z = np.sqrt(np.maximum(dtype(1.0) - (n * n).sum(axis=-1), dtype(0.0)))
     return np.concatenate([n, z[..., None]], axis=-1)
 
 
-def map_xy(image: Array) -> Array:
+def map_xy(image: Array, dtype: type = np.float64) -> Array:
     """A normal map's x and y channels as the GPU samples them: 8- or 16-bit to [0, 1]."""
     image = np.asarray(image)
     top = 65535.0 if image.dtype == np.uint16 else 255.0
-    return image[..., :2].astype(np.float64) / top
+    return image[..., :2].astype(dtype) / dtype(top)
 
 
-def reveal_difference(neutral: Array, wrinkled: Array) -> Array:
+def reveal_difference(neutral: Array, wrinkled: Array, dtype: type = np.float64) -> Array:
     """(H, W) |wrinkled − neutral| per texel of two tangent-space normal maps of one size:
-    what a full weight changes there (0: the wrinkled map is flat where it equals the neutral)."""
-    return np.linalg.norm(unpack_normal(map_xy(wrinkled)) - unpack_normal(map_xy(neutral)),
-                          axis=-1).astype(np.float32)
+    what a full weight changes there (0: the wrinkled map is flat where it equals the neutral).
+    ``dtype`` float32 halves the time on large maps (flat_reveal.py), to within 1e-6."""
+    change = (unpack_normal(map_xy(wrinkled, dtype), dtype)
+              - unpack_normal(map_xy(neutral, dtype), dtype))
+    return np.sqrt((change * change).sum(axis=-1)).astype(np.float32)
 
 
 def srgb_to_linear(c: Array) -> Array:
