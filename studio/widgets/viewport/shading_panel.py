@@ -13,7 +13,7 @@ from studio.widgets.slider_row import SliderRow
 # every technique of the registry but flat shading (a benchmark baseline), then the split view
 TECHNIQUE_CHOICES = [*((t.label, t.key) for t in TECHNIQUE_LIST if t.key != "flat"),
                      ("Split: t1 | t2 | automatic", "split")]
-DEBUG_VIEWS = [("Shaded", "shaded"), ("Wrinkle visibility (heat map)", "heat"),
+DEBUG_VIEWS = [("Shaded", "shaded"), ("Heat: weight", "heat"), ("Heat: what shows", "heat-shows"),
                ("Normals", "normals"), ("UV checker", "uv")]
 COMBO_CHARACTERS = 16  # what a closed list shows of its choice before eliding it
 RELIEF_RANGE = 0.05  # the relief depth slider's end, as a fraction of the face's size

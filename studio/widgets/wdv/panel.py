@@ -33,6 +33,7 @@ from PySide6.QtWidgets import (
 
 from studio.core.animation.poses import NEUTRAL
 from studio.core.mesh import selection as sel
+from studio.core.wrinkles.flat_reveal import reveal_maps, t2_reveal
 from studio.widgets.slider_row import SliderRow
 from studio.widgets.wdv import edits
 from studio.widgets.wdv.tools import WdvTools
@@ -126,6 +127,11 @@ class WdvPanel(QScrollArea):
         self.map_combo.activated.connect(self._map_chosen)
         form.addRow("Wrinkle map", self.map_combo)
         a_layout.addLayout(form)
+        self.flat_label = QLabel()  # the current area reveals a flat part of its map: why
+        self.flat_label.setWordWrap(True)
+        self.flat_label.setStyleSheet("color: #e0a030;")
+        self.flat_label.hide()
+        a_layout.addWidget(self.flat_label)
         return areas
 
     def _build_cone_paint_row(self) -> QHBoxLayout:
@@ -327,12 +333,28 @@ class WdvPanel(QScrollArea):
                 self.colour_button.setIcon(swatch(current.colour, 16))
                 self.colour_button.setText(" #{:02x}{:02x}{:02x}".format(*current.colour))
                 self.create_button.setText(f"Create for “{current.name}”")
+            self._show_flat(current)
         finally:
             self._updating = False
 
+    def _show_flat(self, current) -> None:
+        """Say when the current area's weight lands on a flat part of its wrinkled map: the
+        heat of the weight is hot there, the picture does not change."""
+        project = self.doc.project
+        known = current is not None and current.pose in project.pose_names
+        reveal = None if not known else t2_reveal(
+            reveal_maps(project.textures), project.skin_mesh(), current,
+            project.pose(current.pose).positions, project.wdv.expression_factor,
+            project.wdv.scale_free)
+        flagged = reveal is not None and reveal.flagged
+        self.flat_label.setText(f"“{current.name}” {reveal.reason()} at “{current.pose}”: "
+                                "select where the map has wrinkles, or choose another map."
+                                if flagged else "")
+        self.flat_label.setVisible(flagged)
+
     def _show_view(self) -> None:
         self.heat_check.blockSignals(True)
-        self.heat_check.setChecked(self.doc.view.debug_view == "heat")
+        self.heat_check.setChecked(self.doc.view.debug_view in ("heat", "heat-shows"))
         self.heat_check.blockSignals(False)
 
     def _show_selection(self) -> None:
