@@ -9,6 +9,7 @@ import numpy as np
 
 from studio.core.files.errors import RenderError
 from studio.core.wrinkles.textures import FaceTextures, pack_more_maps, pack_normal_maps
+from studio.render.gl_info import ANISOTROPY
 from studio.render.programs import UNITS
 
 
@@ -34,8 +35,10 @@ def raise_if_out_of_memory(ctx: moderngl.Context) -> None:
 class FaceMaps:
     """Uploads a project's maps; a failed upload keeps the previous maps drawing."""
 
-    def __init__(self, ctx: moderngl.Context) -> None:
+    def __init__(self, ctx: moderngl.Context, anisotropy: float = ANISOTROPY) -> None:
+        """``anisotropy``: the diffuse and first normal maps' (see ``gl_info.map_anisotropy``)."""
         self.ctx = ctx
+        self.anisotropy = anisotropy
         self.textures: dict[str, moderngl.Texture | moderngl.TextureArray] = {}
         self.map_count = 1  # wrinkled maps of the current textures (compiled into the program)
 
@@ -58,7 +61,7 @@ class FaceMaps:
                 # further wrinkled maps: trilinear only. A software renderer fetches them on
                 # every pixel (it runs both sides of a branch), and 8x anisotropic fetches of
                 # them doubled the cost of a frame; the first map keeps full filtering
-                tex.anisotropy = 1.0 if name == "more_maps" else 8.0
+                tex.anisotropy = 1.0 if name == "more_maps" else self.anisotropy
                 tex.repeat_x = tex.repeat_y = False
                 raise_if_out_of_memory(self.ctx)
         except (moderngl.Error, MemoryError) as exc:

@@ -65,6 +65,7 @@ class FacePass:
         self.split = TriangleSplit(self.ibo, mesh.triangles, mesh.uvs, mesh.rest[mesh.weld])
         self._vaos: dict[tuple[str, ...], moderngl.VertexArray] = {}
         self._uniforms: dict[str, object] = {}
+        self._nearest_first = True
         self.uv_per_unit = uv_per_unit(mesh)
 
     # --- inputs ---------------------------------------------------------------------------
@@ -92,13 +93,16 @@ class FacePass:
 
     # --- drawing --------------------------------------------------------------------------
     def draw(self, settings: RenderSettings, view: np.ndarray, proj: np.ndarray,
-             viewport: Viewport, split_draws: bool, uniforms: dict[str, object]) -> None:
+             viewport: Viewport, split_draws: bool, uniforms: dict[str, object],
+             nearest_first: bool = True) -> None:
         """Draw into the bound framebuffer; ``uniforms`` are the renderer's own (technique 2's
-        expression factor, say), set on every face program with the settings'."""
+        expression factor, say), set on every face program with the settings'.
+        ``nearest_first``: triangles in depth order (see ``TriangleSplit.order``)."""
         self._uniforms = uniforms
-        self.split.set_view(view)
+        self._nearest_first = nearest_first
+        self.split.set_view(view, nearest_first)
         if settings.active_relief == "displace":  # one program: tessellated and flat edges
-            self.split.order(None)                 # would not meet
+            self.split.order(None, nearest_first)  # would not meet
             self.ctx.patch_vertices = 3
             self._vao(self._program(settings, view, proj, viewport)).render(moderngl.PATCHES)
         else:
@@ -108,7 +112,8 @@ class FacePass:
 
     def _draw_split(self, settings: RenderSettings, view: np.ndarray, proj: np.ndarray,
                     viewport: Viewport, split_draws: bool) -> None:
-        count = self.split.order(self.wrinkled_triangles(settings) if split_draws else None)
+        count = self.split.order(self.wrinkled_triangles(settings) if split_draws else None,
+                                 self._nearest_first)
         total = len(self.mesh.triangles)
         if count:
             key = self._program(settings, view, proj, viewport)

@@ -57,13 +57,33 @@ def highest_gl_version() -> tuple[int, int]:
 
 
 #: Words in GL_RENDERER that name a renderer drawing on the CPU (Mesa's, Microsoft's, VMware's
-#: on a host without 3-D): virtual machines and remote desktops.
+#: on a host without 3-D, Google's SwiftShader): virtual machines and remote desktops.
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "software rasterizer",
-                      "basic render driver", "apple software renderer")
+                      "basic render", "apple software renderer", "swiftshader")
+
+#: Anisotropic filtering of the face maps on a GPU (samples along the longer axis of a pixel's
+#: footprint in the texture: sharp maps on surfaces seen at a slant).
+ANISOTROPY = 8.0
+
+
+def is_software_name(renderer: str) -> bool:
+    """Whether a GL_RENDERER string names a renderer that draws on the CPU."""
+    renderer = renderer.lower()
+    return any(word in renderer for word in SOFTWARE_RENDERERS)
 
 
 def is_software(ctx: moderngl.Context) -> bool:
     """Whether the context draws on the CPU (vertex shaders on the calling thread, pixels
     on a few cores): reduced resolution while moving, and numpy deformation, pay there."""
-    renderer = str(ctx.info.get("GL_RENDERER", "")).lower()
-    return any(word in renderer for word in SOFTWARE_RENDERERS)
+    return is_software_name(str(ctx.info.get("GL_RENDERER", "")))
+
+
+def map_anisotropy(renderer: str) -> float:
+    """Anisotropic filtering for the face maps on the renderer GL_RENDERER names: none (1,
+    trilinear) on a software renderer. Mesa's (llvmpipe, softpipe) filters anisotropically by
+    walking every texel of the pixel's footprint ellipse (Heckbert's EWA), whatever the maximum
+    anisotropy asked for; a sliver triangle (a few hundredths of a pixel, as a posed face has
+    somewhere at most angles) has a nearly flat ellipse thousands of texels long, and one such
+    pixel took 3.5 s of a frame of the ICT head (issue #28). Trilinear costs the same on every
+    triangle."""
+    return 1.0 if is_software_name(renderer) else ANISOTROPY

@@ -22,7 +22,7 @@ from studio.core.wrinkles.wdv import WdvSlots
 from studio.render.deform_pass import DeformPass
 from studio.render.face_maps import FaceMaps
 from studio.render.face_pass import FacePass
-from studio.render.gl_info import gl_version, is_software
+from studio.render.gl_info import gl_version, is_software, map_anisotropy
 from studio.render.gpu_deform import GpuDeformPass
 from studio.render.programs import Programs
 from studio.render.relief_pass import ReliefPass
@@ -59,7 +59,7 @@ class FaceRenderer:
         deform = deform or deform_choice()
         self.deforms_on_gpu = deform == "gpu" or (deform == "auto" and not is_software(ctx))
         self.programs = Programs(ctx)
-        self.maps = FaceMaps(ctx)
+        self.maps = FaceMaps(ctx, map_anisotropy(str(ctx.info.get("GL_RENDERER", ""))))
         self.relief = ReliefPass(ctx)
         self.t1 = T1ComposePass(ctx, self.programs)
         self.mesh: FaceMesh | None = None
@@ -68,6 +68,9 @@ class FaceRenderer:
         self.expression_factor = 1.0
         self.scale_free = True
         self.split_draws = True  # plain shading for triangles that cannot wrinkle (same picture)
+        # triangles nearest first (less overdraw); False: the mesh's order, for small frames
+        # drawn while the user moves (vertex reuse on a software renderer; same picture)
+        self.nearest_first = True
         self.set_masks(np.zeros((0, 1, 1), np.float32))
 
     @property
@@ -180,7 +183,8 @@ class FaceRenderer:
         self.t1.bind()
         self.relief.bind()
         self.face.draw(settings, view, proj, viewport, self.split_draws,
-                       {"u_expression": self.expression_factor, "u_scale_free": self.scale_free})
+                       {"u_expression": self.expression_factor, "u_scale_free": self.scale_free},
+                       self.nearest_first)
 
     def _release_geometry(self) -> None:
         for part in (self.face, self.deform):

@@ -230,6 +230,7 @@ class MainWindow(QMainWindow):
                 view.addAction(dock.toggleViewAction())
         view.addSeparator()
         self._anti_aliasing_menu(view.addMenu("&Anti-Aliasing"))
+        view.addAction(self.viewport.reduce_action(self))
         view.addSeparator()
         self._action(view, "Reset &Layout", self.reset_layout)
 

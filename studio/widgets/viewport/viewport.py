@@ -5,6 +5,12 @@ happens in the widget's context and each change re-uploads only what it touched.
 follows Blender: middle-drag orbits, Shift+middle pans, Ctrl+middle and the wheel zoom; on a
 laptop Alt+left orbits and Alt+Shift+left pans. F frames the face; numpad 1/3/7 give front,
 side and top views.
+
+On a software renderer, frames drawn while the user moves (navigation, a camera or pose change:
+scrubbing, a pose slider, playback) are drawn at a reduced size chosen to hold 20 frames a
+second, single-sampled, and stretched over the viewport; ``SETTLE_MS`` after the last movement
+(a navigation drag: when the button is let go) the frame is drawn full size again. View ▸ Reduce
+Resolution While Moving turns it off (remembered).
 """
 
 from __future__ import annotations
@@ -13,21 +19,29 @@ import itertools
 import time
 
 import moderngl
-from PySide6.QtCore import QPoint, Qt, QTimer, Signal
-from PySide6.QtGui import QMouseEvent, QWheelEvent
+from PySide6.QtCore import QObject, QPoint, Qt, QTimer, Signal
+from PySide6.QtGui import QAction, QImage, QMouseEvent, QWheelEvent
 from PySide6.QtOpenGLWidgets import QOpenGLWidget
 from PySide6.QtWidgets import QLabel, QWidget
 
 from studio.core.files.errors import RenderError
 from studio.core.wrinkles.techniques import SPLIT, TECHNIQUES
-from studio.render.gl_info import describe_gl, gl_version
+from studio.render.gl_info import describe_gl, gl_version, is_software
+from studio.render.reduced import SCALES, MotionScale, ReducedTarget, scaled_size
 from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
 from studio.render.settings import render_settings
+from studio.widgets.app_settings import settings
 from studio.widgets.document import Document
 
 ANTI_ALIASING = (0, 2, 4, 8)  # samples per pixel offered (View ▸ Anti-Aliasing); 0: off
 DEFAULT_SAMPLES = 4
+SETTLE_MS = 200  # still this long after the last movement: draw full size again
+REPORT_MS = 500  # while moving, frame times are reported (frameRendered) this often
+# the time between frames besides the drawing (Qt composing the window) is the least of the
+# last GAPS moving frames' gaps: a pause of the hand lengthens a gap, never shortens one
+GAPS = 8
+REDUCE_KEY = "viewport/reduce_while_moving"
 
 
 def split_columns(width: int) -> list[tuple[int, int]]:
@@ -54,7 +68,10 @@ def attach_to_current_context() -> moderngl.Context:
 
 
 class Viewport(QOpenGLWidget):
-    frameRendered = Signal(float)  # milliseconds the frame took, GPU finish included
+    # milliseconds the frame took, GPU finish included: after every still frame, and while the
+    # user moves at most every REPORT_MS with the mean since (a change to the status bar makes
+    # Qt compose the whole window again: on a software renderer as long as a reduced frame)
+    frameRendered = Signal(float)
     glFailed = Signal(str)
 
     def __init__(self, document: Document, parent: QWidget | None = None) -> None:
@@ -74,6 +91,22 @@ class Viewport(QOpenGLWidget):
         self.samples = DEFAULT_SAMPLES  # anti-aliasing: samples per pixel (0 or 1: off)
         self._msaa: moderngl.Framebuffer | None = None  # drawn into, then resolved into Qt's
         self._msaa_key: tuple[int, int, int] | None = None
+        # reduced drawing while moving (software renderers; see the module's docstring)
+        self.software = False  # the context draws on the CPU (set once OpenGL is up)
+        self.reduce_while_moving = settings().value(REDUCE_KEY, True, type=bool)
+        self.motion = MotionScale()
+        self.moving = False
+        self.last_draw_size: tuple[int, int] = (0, 0)  # pixels the last frame was drawn at
+        self._reduced: ReducedTarget | None = None
+        self._still_ms = 0.0  # the last full-size frame's time
+        self._moved_at = 0.0  # perf_counter when the current movement started
+        self._said: str | None = None  # the status bar message about reduced drawing
+        self._unreported: list[float] = []  # moving frames' times not yet reported
+        self._painted: tuple[float, float] | None = None  # the last frame's start and end
+        self._gaps: list[float] = []  # ms from one moving frame's end to the next one's start
+        self._reported = 0.0  # perf_counter of the last frameRendered
+        self._settle = QTimer(self, singleShot=True, interval=SETTLE_MS)
+        self._settle.timeout.connect(self._still)
         self.setMinimumSize(320, 240)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMouseTracking(True)
@@ -101,7 +134,8 @@ class Viewport(QOpenGLWidget):
         d.wdvSettingsChanged.connect(lambda: self._invalidate("wdv settings"))
         d.viewChanged.connect(self._update_labels)
         d.viewChanged.connect(self.update)
-        d.cameraChanged.connect(self.update)
+        d.cameraChanged.connect(self._moved)
+        d.poseWeightsChanged.connect(self._moved)  # a scrub, a slider drag, playback
 
     def _invalidate(self, what: str) -> None:
         self._pending.add(what)
@@ -122,6 +156,7 @@ class Viewport(QOpenGLWidget):
             return
         self.renderer = FaceRenderer(self.ctx)
         self.gl_description = describe_gl(self.ctx)
+        self.software = is_software(self.ctx)
         self._pending = {"project"}
         self._update_labels()
         self.show_status(self.gl_description, 8000)
@@ -170,9 +205,51 @@ class Viewport(QOpenGLWidget):
                self.devicePixelRatioF())
         if getattr(self, "_fbo_key", None) != key:
             self._fbo, self._fbo_key = self.ctx.detect_framebuffer(key[1]), key
-        ratio = self.devicePixelRatioF()
-        w, h = round(self.width() * ratio), round(self.height() * ratio)
-        fbo = self._draw_target(w, h)
+        size = self.pixel_size()
+        scale = self.motion.scale if self._reducing() else None
+        self.renderer.nearest_first = scale is None
+        if scale is None:
+            fbo = self._draw_target(*size)
+            self._draw_face(fbo, size)
+            self._draw_overlays(fbo, size)
+            if fbo is not self._fbo:
+                self.ctx.copy_framebuffer(self._fbo, fbo)  # resolve the samples into Qt's
+            self.last_draw_size = size
+        else:
+            if self._reduced is None:
+                self._reduced = ReducedTarget(self.ctx)
+            self.last_draw_size = scaled_size(size, scale)
+            self._draw_face(self._reduced.framebuffer(self.last_draw_size), self.last_draw_size)
+            self._reduced.upscale(self._fbo, size)
+            self._draw_overlays(self._fbo, size)  # full size on the stretched depth
+        self.ctx.finish()
+        ms = (time.perf_counter() - start) * 1000.0
+        if scale is None:
+            self._still_ms = ms
+            self._gaps.clear()
+        else:
+            if self._painted is not None and self._painted[0] >= self._moved_at:
+                self._gaps = [*self._gaps[-(GAPS - 1):], (start - self._painted[1]) * 1000.0]
+            self.motion.record(scale, ms, min(self._gaps, default=0.0))
+        self._painted = (start, time.perf_counter())
+        self._say_reduced(scale)
+        self.frames_rendered += 1
+        self._report(ms)
+
+    def _report(self, ms: float) -> None:
+        """``frameRendered`` for this frame: at once when still, batched while moving."""
+        self._unreported.append(ms)
+        now = time.perf_counter()
+        if self.moving and (now - self._reported) * 1000.0 < REPORT_MS:
+            return
+        mean = sum(self._unreported) / len(self._unreported)
+        self._unreported.clear()
+        self._reported = now
+        self.frameRendered.emit(mean)
+
+    def _draw_face(self, fbo: moderngl.Framebuffer, size: tuple[int, int]) -> None:
+        """The face (each split pane's) into ``fbo``'s (0, 0, *size)."""
+        w, h = size
         view = self.doc.view
         relief = self._relief(view.relief)
         if view.split:
@@ -183,13 +260,78 @@ class Viewport(QOpenGLWidget):
         else:
             self.renderer.render(fbo, self.doc.camera, render_settings(view, relief=relief),
                                  viewport=(0, 0, w, h))
+
+    def _draw_overlays(self, fbo: moderngl.Framebuffer, size: tuple[int, int]) -> None:
         for overlay in self.overlays:
-            overlay.draw(self.ctx, fbo, self.doc.camera, (0, 0, w, h))
-        if fbo is not self._fbo:
-            self.ctx.copy_framebuffer(self._fbo, fbo)  # resolve the samples into Qt's
-        self.ctx.finish()
-        self.frames_rendered += 1
-        self.frameRendered.emit((time.perf_counter() - start) * 1000.0)
+            overlay.draw(self.ctx, fbo, self.doc.camera, (0, 0, *size))
+
+    # --- reduced resolution while moving ------------------------------------------------------
+    def _reducing(self) -> bool:
+        return self.moving and self.software and self.reduce_while_moving
+
+    def _moved(self) -> None:
+        """The camera or the pose changed: a moving frame, full size again once still."""
+        if not self.moving:
+            self.moving = True
+            self._moved_at = time.perf_counter()
+            self.motion.start(self._still_ms)
+        self._settle.start()
+        self.update()
+
+    def _still(self) -> None:
+        """No movement for ``SETTLE_MS``: full size again, unless a navigation drag is still
+        held (as in Blender, the view stays reduced until the button is let go)."""
+        if self._drag is None:
+            self._settled()
+
+    def _settled(self, redraw: bool = True) -> None:
+        """The movement ended: the next frame is full size."""
+        self._settle.stop()
+        if self.moving:
+            self.moving = False
+            if redraw:
+                self.update()
+
+    def grabFramebuffer(self) -> QImage:
+        """The view drawn full size, even mid-movement: a grab is a picture to keep (Qt draws
+        a frame for it)."""
+        self._settled(redraw=False)
+        return super().grabFramebuffer()
+
+    def _say_reduced(self, scale) -> None:
+        """Tell the user in the status bar while frames are drawn reduced, and stop saying so
+        once they are not."""
+        text = None
+        if scale is not None and scale != SCALES[0]:
+            text = f"drawing at {scale} resolution while you move (software OpenGL)"
+        elif scale is not None and min(self.samples, self.max_samples) >= 2:
+            text = "drawing without anti-aliasing while you move (software OpenGL)"
+        if text == self._said:
+            return
+        bar = getattr(self.window(), "statusBar", None)
+        if bar is not None:
+            if text is not None:
+                bar().showMessage(text)
+            elif bar().currentMessage() == self._said:
+                bar().clearMessage()
+        self._said = text
+
+    def set_reduce_while_moving(self, on: bool) -> None:
+        """View ▸ Reduce Resolution While Moving: on a software renderer, draw moving frames
+        at a reduced size (remembered)."""
+        self.reduce_while_moving = bool(on)
+        settings().setValue(REDUCE_KEY, self.reduce_while_moving)
+        self.update()
+
+    def reduce_action(self, parent: QObject) -> QAction:
+        """The View menu's checkable entry for ``set_reduce_while_moving``."""
+        action = QAction("Reduce Resolution While Moving", parent, checkable=True)
+        action.setChecked(self.reduce_while_moving)
+        action.setToolTip("On a software renderer (no graphics card, e.g. in a virtual "
+                          "machine), draw at a lower resolution while you orbit, scrub or "
+                          "drag a slider, and sharp again when you stop")
+        action.toggled.connect(self.set_reduce_while_moving)
+        return action
 
     @property
     def max_samples(self) -> int:
@@ -302,6 +444,7 @@ class Viewport(QOpenGLWidget):
     def mouseReleaseEvent(self, event: QMouseEvent) -> None:
         if self._drag is not None:
             self._drag = None
+            self._settled()  # the hand stopped: sharp at once
         elif self.tool is not None and event.button() == Qt.MouseButton.LeftButton:
             self.tool.release(self, event)
 
