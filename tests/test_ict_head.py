@@ -102,7 +102,7 @@ def test_the_sample_is_the_head_set_up_with_a_timeline_of_expressions() -> None:
 def test_the_face_box_ends_at_the_chin_and_names_each_pose_after_its_place(subset: bool) -> None:
     """The face is the skin the poses deform; the neck under the chin, pulled by the jaw
     opening alone, is not: the box's bottom is the chin, so F frames the face and the report
-    names each pose's place on this real head, with a few poses or all 53."""
+    names each pose's place on this real head, with a rig of ten poses or all 53."""
     from studio.core.project.ict_head import landmark_vertices
     from studio.core.setup.auto_setup import suggest_setup
 
@@ -110,7 +110,8 @@ def test_the_face_box_ends_at_the_chin_and_names_each_pose_after_its_place(subse
              "noseSneer_L": ("left side of the nose",),
              "mouthSmile_L": ("left nasolabial fold", "left cheek"),
              "mouthStretch_L": ("left mouth corner",), "jawOpen": ("chin",)}
-    project = load_ict_head(poses=[*named, "browDown_L", "mouthPucker"] if subset else None)
+    few = [*named, "browDown_L", "mouthPucker", "cheekSquint_L", "mouthFrown_L"]  # a rig of ten
+    project = load_ict_head(poses=few if subset else None)
     frame = face_frame(project)
     marks = frame.to_face(project.mesh.rest[landmark_vertices()].astype(np.float64))
     assert -0.95 < marks[8, 1] < -0.75  # the chin, at the bottom of the face box

@@ -37,8 +37,8 @@ AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
 SNAP_DEGREES = 30.0  # a detected direction this close to an axis is taken as that axis
 DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation is face
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
-MANY_POSES = 4  # from this many poses on, the face is the skin at least two of them deform …
-SHARED_LEAST = 0.25  # … unless that is under a quarter of the skin any of them deforms
+MANY_POSES = 10  # in a rig of this many poses or more, the face ends below where two of them …
+SHARED_LEAST = 0.25  # … deform the skin, unless that is under a quarter of what any of them does
 
 # Which way poses move the skin, by ARKit name, and by words other rigs use
 _UPWARD = {"browInnerUp", "browOuterUpLeft", "browOuterUpRight", "eyeWideLeft", "eyeWideRight",
@@ -175,7 +175,7 @@ def _deformation(rest: Array, poses: Sequence[Array], edges: Array) -> Array:
 def _face_region(per_pose: Array, skin: Array) -> tuple[Array, Array | None]:
     """(W,) bool: the skin the poses deform — by a tenth of the strong deformation
     (``DEFORMED_SHARE``); and, with ``MANY_POSES`` or more, the skin at least two of them
-    deform, which bounds the face from below: the neck under the chin is pulled by a jaw
+    deform, which bounds a rig's face from below: the neck under the chin is pulled by a jaw
     opening alone (the forehead up to the hairline may be raised by one brow pose alone, so
     the top keeps the first). None for the second when the poses hardly overlap."""
     deformed = per_pose * skin
