@@ -211,8 +211,37 @@ def blend_modes(project: Project) -> None:
     contact_sheet(tiles, 3, "blend_modes")
 
 
+def studio_window(project: Project) -> None:
+    """The studio as it opens on the sample, 1440 × 900, the timeline at the surprise's peak
+    and the brow raise shown by technique 2 (run under a display, e.g. xvfb-run)."""
+    from PySide6.QtWidgets import QApplication
+
+    from studio.app import configure_opengl
+    from studio.widgets.main_window import MainWindow
+
+    configure_opengl()
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    window = MainWindow(project)
+    window.resize(1440, 900)
+    window.show()
+    rise, hold = 12, 18  # the surprise's keys: frames 0 → 12, held to 30
+    window.doc.show_frame(rise + hold // 2)
+    for _ in range(200):  # until the viewport has drawn that frame, refined
+        app.processEvents()
+        if window.viewport.frames_rendered > 2:
+            break
+    for _ in range(20):
+        app.processEvents()
+    out = OUT / "studio.png"
+    window.grab().save(str(out))
+    window.doc.undo_stack.setClean()
+    window.close()
+    print(f"wrote {out}")
+
+
 IMAGES = {"sample_techniques": sample_techniques, "real_head_poses": close_ups,
-          "wrinkle_lines": wrinkle_lines, "silhouette": silhouette, "blend_modes": blend_modes}
+          "wrinkle_lines": wrinkle_lines, "silhouette": silhouette, "blend_modes": blend_modes,
+          "studio": studio_window}
 
 
 def main(names: list[str]) -> None:
