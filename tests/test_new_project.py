@@ -201,3 +201,42 @@ def test_the_parts_table_stays_hidden_for_a_single_part_mesh(qtbot, face_files):
     qtbot.addWidget(dialog)
     dialog.mesh.edit.setText(str(folder / "neutral.obj"))
     assert dialog.parts.isHidden() and dialog.parts.keep() is None
+
+
+def test_browse_opens_beside_the_files_the_user_chose(qtbot, face_files, monkeypatch, dialogs):
+    """A map's or a pose's Browse… opens in the neutral mesh's folder, and a first Browse…
+    in the folder the user last chose a file in (not the home folder)."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtWidgets import QFileDialog, QPushButton
+
+    from studio.widgets.app_settings import settings
+
+    folder, _ = face_files
+    elsewhere = folder / "textures"
+    elsewhere.mkdir()
+    settings().setValue("last_folder", str(elsewhere))
+    asked: list[str] = []
+
+    def chooser(chosen: str):
+        def ask(_parent, _caption, start, _filter=""):
+            asked.append(start)
+            return chosen, ""
+        return staticmethod(ask)
+
+    dialog = NewProjectDialog()
+    qtbot.addWidget(dialog)
+    dialog.show()
+    buttons = [b for b in dialog.findChildren(QPushButton) if b.text() == "Browse…"]
+    monkeypatch.setattr(QFileDialog, "getOpenFileName", chooser(str(folder / "neutral.obj")))
+    qtbot.mouseClick(buttons[0], Qt.MouseButton.LeftButton)  # the neutral mesh: nothing yet
+    assert asked == [str(elsewhere)] and dialog.mesh.path() == str(folder / "neutral.obj")
+    monkeypatch.setattr(QFileDialog, "getOpenFileName", chooser(str(folder / "diffuse.png")))
+    qtbot.mouseClick(buttons[1], Qt.MouseButton.LeftButton)  # the diffuse map
+    assert asked[-1] == str(folder)
+    poses: list[str] = []
+    monkeypatch.setattr(QFileDialog, "getOpenFileNames", staticmethod(
+        lambda _p, _c, start, _f="": (poses.append(start), ([], ""))[1]))
+    add = next(b for b in dialog.findChildren(QPushButton) if b.text() == "Add key poses…")
+    qtbot.mouseClick(add, Qt.MouseButton.LeftButton)
+    assert poses == [str(folder)]
+    assert settings().value("last_folder") == str(folder)  # remembered for the next dialog

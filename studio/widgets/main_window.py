@@ -22,7 +22,7 @@ from PySide6.QtWidgets import (
 from studio.core.files.errors import Cancelled, StudioError
 from studio.core.project.model import Project
 from studio.widgets.about import show_about
-from studio.widgets.app_settings import settings
+from studio.widgets.app_settings import last_folder, settings
 from studio.widgets.autosave import install_autosave
 from studio.widgets.background import run_with_progress
 from studio.widgets.document import Document
@@ -390,7 +390,7 @@ class MainWindow(QMainWindow):
 
     # --- remembered settings -------------------------------------------------------------------
     def _last_folder(self) -> str:
-        return str(settings().value("last_folder", str(Path.home())))
+        return last_folder()
 
     def _save_folder(self) -> str:
         """Where Save As starts: the project's own folder; for a project not saved yet, the

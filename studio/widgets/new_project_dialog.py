@@ -9,6 +9,7 @@ eyes and teeth not face.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtCore import Qt
@@ -41,7 +42,7 @@ from studio.core.project.model import Project
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import face_frame, face_locator
 from studio.core.wrinkles.normalmap import flip_green
-from studio.widgets.app_settings import settings
+from studio.widgets.app_settings import remember_folder, settings, start_folder
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.progress import progress_dialog
 
@@ -56,9 +57,11 @@ IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga);;All files 
 class FileField(QWidget):
     """A path with a Browse… button."""
 
-    def __init__(self, caption: str, file_filter: str, placeholder: str = "") -> None:
+    def __init__(self, caption: str, file_filter: str, placeholder: str = "",
+                 near: Callable[[], str | None] = lambda: None) -> None:
         super().__init__()
         self.caption, self.file_filter = caption, file_filter
+        self.near = near  # a file the user chose already: Browse… opens beside it
         self.edit = QLineEdit()
         self.edit.setPlaceholderText(placeholder)
         browse = QPushButton("Browse…")
@@ -69,9 +72,10 @@ class FileField(QWidget):
         layout.addWidget(browse)
 
     def browse(self) -> None:
-        name, _ = QFileDialog.getOpenFileName(self, self.caption, self.edit.text(),
-                                              self.file_filter)
+        start = start_folder(self.edit.text().strip(), self.near())
+        name, _ = QFileDialog.getOpenFileName(self, self.caption, start, self.file_filter)
         if name:
+            remember_folder(name)
             self.edit.setText(name)
 
     def path(self) -> str | None:
@@ -198,9 +202,13 @@ class NewProjectDialog(QDialog):
         self.parts = PartsBox()
         self.parts.hide()
         self.mesh.edit.textChanged.connect(self.list_parts)
-        self.diffuse = FileField("Diffuse map", IMAGE_FILTER, "optional: plain skin colour")
-        self.normal = FileField("Neutral normal map", IMAGE_FILTER, "optional: flat")
-        self.wrinkled = FileField("Wrinkled normal map", IMAGE_FILTER, "optional: flat")
+        beside_mesh = self.mesh.path  # maps and poses usually sit beside the neutral mesh
+        self.diffuse = FileField("Diffuse map", IMAGE_FILTER, "optional: plain skin colour",
+                                 beside_mesh)
+        self.normal = FileField("Neutral normal map", IMAGE_FILTER, "optional: flat",
+                                beside_mesh)
+        self.wrinkled = FileField("Wrinkled normal map", IMAGE_FILTER, "optional: flat",
+                                  beside_mesh)
         self.directx = QCheckBox("Normal maps use the DirectX convention (flip green)")
         self.auto = QCheckBox("Auto set-up from the key poses (wrinkle vectors, masks, and a "
                               "wrinkled map when none is given)")
@@ -252,7 +260,10 @@ class NewProjectDialog(QDialog):
         self.parts.set_groups(groups, found)
 
     def add_poses(self) -> None:
-        names, _ = QFileDialog.getOpenFileNames(self, "Key-pose meshes", "", MESH_FILTER)
+        names, _ = QFileDialog.getOpenFileNames(self, "Key-pose meshes",
+                                                start_folder(self.mesh.path()), MESH_FILTER)
+        if names:
+            remember_folder(names[0])
         for name in names:
             self.add_pose(Path(name).stem, name)
 

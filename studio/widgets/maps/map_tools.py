@@ -14,6 +14,7 @@ from studio.core.files.images import load_grey, load_rgb
 from studio.core.files.naming import unique_name
 from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS, FaceTextures
+from studio.widgets.app_settings import remember_folder, start_folder
 from studio.widgets.document import Document
 
 MAPS = {"diffuse": "Diffuse map", "normal_neutral": "Neutral normal map",
@@ -104,7 +105,10 @@ class MapTools:
         return self.window.doc
 
     def _ask_image(self, caption: str) -> Path | None:
-        name, _ = QFileDialog.getOpenFileName(self.window, caption, "", IMAGE_FILTER)
+        start = start_folder(self.doc.path, self.doc.project.mesh.source)
+        name, _ = QFileDialog.getOpenFileName(self.window, caption, start, IMAGE_FILTER)
+        if name:
+            remember_folder(name)
         return Path(name) if name else None
 
     def _load(self, load, path: Path):
