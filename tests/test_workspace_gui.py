@@ -130,6 +130,7 @@ def test_sequencing_fits_the_time_axis_and_the_playhead_stays_on_screen(opened, 
     qtbot.mousePress(viewport, Qt.MouseButton.LeftButton, pos=QPoint(playhead_x, middle.y()))
     for i in range(1, 11):
         qtbot.mouseMove(viewport, QPoint(playhead_x - 8 * i, middle.y()))
+        qtbot.wait(5)  # a hand's pace: each move handled before the next
     qtbot.mouseRelease(viewport, Qt.MouseButton.LeftButton,
                        pos=QPoint(playhead_x - 80, middle.y()))
     assert window.doc.frame < timeline.end
