@@ -15,7 +15,7 @@ from PIL import Image, ImageDraw
 from studio.bench.report import _font
 from studio.core.project.ict_head import landmark_vertices
 from studio.core.project.model import Project
-from studio.core.project.sample import make_sample, sample_landmarks
+from studio.core.project.sample import make_test_face, sample_landmarks
 from studio.core.setup.sample_setup import EXPRESSIONS, sample_project
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings
@@ -68,7 +68,7 @@ def silhouette(_: Project) -> None:
     """Wrinkles in silhouette (issue 10), on the procedural test face (its brow map was
     painted with relief in mind): the surprised forehead in profile, technique 2, with relief
     off and with displacement (tessellation)."""
-    project = make_sample()
+    project = make_test_face()
     size = (440, 440)
     with OffscreenStudio(project, *size) as studio:
         camera = studio.camera

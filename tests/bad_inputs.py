@@ -23,12 +23,12 @@ import numpy as np
 from studio.core.files.png import SIGNATURE, encode_png
 from studio.core.mesh.meshio import save_obj
 from studio.core.project.gltf import save_gltf
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
 
 
 def small_project():
-    return make_sample(561, texture_size=64, mask_size=32)
+    return make_test_face(561, texture_size=64, mask_size=32)
 
 
 def write_base(folder: Path) -> None:

@@ -75,9 +75,9 @@ def gl_context():
 @pytest.fixture
 def sample():
     """A private copy of the bundled sample face (2172 vertices) that a test may change."""
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
 
-    return copy.deepcopy(make_sample())
+    return copy.deepcopy(make_test_face())
 
 
 @pytest.fixture

@@ -348,10 +348,10 @@ def test_cli_bakes_into_the_project_and_a_png(tmp_path, capsys):
     from studio.core.files.images import load_rgb
     from studio.core.mesh.meshio import save_obj
     from studio.core.project.reader import load_project
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
     from studio.core.project.writer import save_project
 
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     save_project(project, tmp_path / "face.wrinkle")
     mesh = project.mesh
     save_obj(tmp_path / "sculpt.obj", mesh, mesh.rest * np.float32(1.001))

@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from studio.cli import main
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 
@@ -29,7 +29,7 @@ def render_png(tmp_path, *args: str) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def marks():
-    project = make_sample()
+    project = make_test_face()
     return landmark_pixels(project, default_camera(project), *SIZE)
 
 
@@ -41,7 +41,7 @@ def test_surprise_t2_differs_from_none_on_forehead_not_chin(tmp_path, marks):
 
 
 def test_squeeze_t2_differs_at_both_eye_corners_seen_from_the_front(tmp_path):
-    project = make_sample()
+    project = make_test_face()
     camera = default_camera(project)
     camera.yaw = 0.0
     front = landmark_pixels(project, camera, *SIZE)

@@ -21,7 +21,7 @@ from studio.core.engines.layouts import LAYOUTS
 from studio.core.engines.plan import LayoutError
 from studio.core.files.errors import StudioError
 from studio.core.project.model import Project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.response import ResponseCurve
@@ -39,7 +39,7 @@ ARKIT_LINKS = {
 
 def arkit_face() -> Project:
     """The small sample face with its five key poses renamed to the ARKit shapes above."""
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     project.poses = [KeyPose(name, pose.positions)
                      for name, pose in zip(ARKIT_LINKS, project.poses, strict=True)]
     project.timeline = Timeline()

@@ -28,7 +28,7 @@ from PySide6.QtWidgets import (
 from studio.core.project import reader
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.widgets.app_settings import settings
 from studio.widgets.wdv import edits
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
@@ -41,7 +41,7 @@ LEFT = Qt.MouseButton.LeftButton
 
 def fresh_sample() -> Project:
     """A private copy of the sample face (saving stores the view into the project)."""
-    return copy.deepcopy(make_sample())
+    return copy.deepcopy(make_test_face())
 
 
 def click_menu_path(qtbot, window, *titles: str) -> None:

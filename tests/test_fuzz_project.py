@@ -24,7 +24,7 @@ from hypothesis import strategies as st
 from studio.core.files.errors import ProjectError
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.project.schema import check_project
 from studio.core.project.writer import save_project
 
@@ -38,7 +38,7 @@ TRIED: dict[str, int] = {}  # property -> examples run (printed at the end with 
 
 @pytest.fixture(scope="module")
 def valid(tmp_path_factory: pytest.TempPathFactory) -> bytes:
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     path = tmp_path_factory.mktemp("fuzz") / "valid.wrinkle"
     save_project(project, path)
     return path.read_bytes()

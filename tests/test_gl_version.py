@@ -62,14 +62,14 @@ def test_the_viewport_gets_the_highest_version_and_about_names_it(open_window, m
     from PySide6.QtGui import QSurfaceFormat
     from PySide6.QtWidgets import QMessageBox
 
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
     from studio.widgets.about import about_text
 
     shown: list[str] = []
     monkeypatch.setattr(QMessageBox, "about",
                         staticmethod(lambda parent, title, text: shown.append(text)))
 
-    window = open_window(make_sample(561))
+    window = open_window(make_test_face(561))
     major, minor = gl_info.highest_gl_version()
     asked = QSurfaceFormat.defaultFormat()  # Mesa gives the highest whatever is asked for
     assert (asked.majorVersion(), asked.minorVersion()) == (major, minor)

@@ -15,14 +15,14 @@ from studio.core.files.errors import StudioError
 from studio.core.files.images import read_image
 from studio.core.project.gltf import load_gltf, save_gltf
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 
 pytestmark = pytest.mark.core
 
 
 @pytest.fixture(scope="module")
 def small():
-    return make_sample(561, texture_size=64, mask_size=32)
+    return make_test_face(561, texture_size=64, mask_size=32)
 
 
 def test_studio_glb_round_trips_everything(small, tmp_path):
@@ -51,7 +51,7 @@ def test_studio_glb_round_trips_everything(small, tmp_path):
 
 
 def test_glb_keeps_several_wrinkled_maps_cones_and_not_face(small, tmp_path):
-    face = make_sample(561, texture_size=64, mask_size=32)
+    face = make_test_face(561, texture_size=64, mask_size=32)
     assert len(face.textures.wrinkle_maps) == 2  # the sample reveals two maps
     cones = np.zeros(face.mesh.n_welded, np.float32)
     cones[::7] = 8.0

@@ -14,14 +14,14 @@ import pytest
 from studio.core.animation.timeline import Key, sequence_all_poses
 from studio.core.mesh.geometry import DeformCache
 from studio.core.project.gltf import _Gltf, load_gltf, save_gltf
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 
 pytestmark = pytest.mark.core
 
 
 @pytest.fixture
 def small():
-    face = make_sample(561, texture_size=64, mask_size=32)
+    face = make_test_face(561, texture_size=64, mask_size=32)
     face.timeline = sequence_all_poses([p.name for p in face.poses])
     # a constant key at a fractional frame: exact at frames and keys all the same
     face.timeline.tracks[0].keys.append(Key(face.timeline.end - 10.5, 0.7, "constant"))

@@ -21,7 +21,7 @@ from studio.core.animation.timeline import Timeline, sequence_all_poses
 from studio.core.project.export import export_folder
 from studio.core.project.gltf import save_gltf
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from tests.test_production_head import import_head
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -46,10 +46,10 @@ def exports(tmp_path_factory) -> list[Path]:
     keys and no influence areas, the engine folder's GLB, and a production head (millimetres,
     Z up, UDIM tiles, ARKit poses) with every pose sequenced."""
     folder = tmp_path_factory.mktemp("exports")
-    sample = make_sample(1071, texture_size=128, mask_size=64)
+    sample = make_test_face(1071, texture_size=128, mask_size=64)
     assert sample.timeline.has_keys
     save_gltf(sample, folder / "sample.glb")
-    bare = make_sample(561, texture_size=64, mask_size=32)
+    bare = make_test_face(561, texture_size=64, mask_size=32)
     bare.timeline = Timeline()
     bare.influence.areas.clear()
     save_gltf(bare, folder / "bare.glb", tangent_frame="thesis")

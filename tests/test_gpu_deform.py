@@ -157,11 +157,11 @@ def test_strain_weights_are_numpy_s_and_a_stretch_shows_none(gl_context, sheet):
 def test_the_studio_draws_the_same_face_deformed_either_way(gl_context, monkeypatch, technique):
     """The whole renderer, GPU deformation against numpy, on the procedural face posed: the
     same picture (the split draw's choice of triangles included)."""
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
 
-    project = make_sample(561)
+    project = make_test_face(561)
     weights = {p.name: 0.3 + 0.2 * k for k, p in enumerate(project.poses[:3])}
     images = {}
     for deform in ("cpu", "gpu"):

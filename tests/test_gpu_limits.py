@@ -32,9 +32,9 @@ def test_masks_larger_than_the_gpu_holds(renderer, gl_context):
 
 
 def test_textures_larger_than_the_gpu_holds(renderer, gl_context, monkeypatch):
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
 
-    textures = make_sample(561, texture_size=64, mask_size=32).textures
+    textures = make_test_face(561, texture_size=64, mask_size=32).textures
     renderer.set_textures(textures)
     before = dict(renderer.maps.textures)
     info = {**gl_context.info, "GL_MAX_TEXTURE_SIZE": 32}

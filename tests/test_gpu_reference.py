@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.project.model import Project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.wrinkles.mask_sparse import composed_weights, sparse_masks
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from studio.core.wrinkles.wdv import WdvSlots, visibility
@@ -133,7 +133,7 @@ def compose_cases(draw):
 @given(case=compose_cases())
 def test_technique_1_compose_pass_on_the_gpu_is_the_formula(gl_context, case):
     masks, activations, maps = case
-    with OffscreenStudio(make_sample(561, 64, 16), 32, 32, ctx=gl_context) as studio:
+    with OffscreenStudio(make_test_face(561, 64, 16), 32, 32, ctx=gl_context) as studio:
         renderer = studio.renderer
         renderer.set_masks(masks)
         renderer.set_area_maps(maps.astype(np.float32))

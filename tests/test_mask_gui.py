@@ -501,11 +501,11 @@ def warped_pixel(window, name: str) -> tuple[float, float]:
 
 def neutral_marks(window) -> dict[str, tuple[int, int]]:
     """The landmarks' pixels, found on the sample's own UV layout (the geometry is the same)."""
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
     from tests.regions import landmark_pixels
 
     w, h = window.viewport.pixel_size()
-    return landmark_pixels(make_sample(), window.doc.camera, w, h)
+    return landmark_pixels(make_test_face(), window.doc.camera, w, h)
 
 
 def choose_mirror(window, mode: str) -> None:

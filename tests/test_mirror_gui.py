@@ -80,9 +80,9 @@ def test_a_mask_mirrors_across_a_head_placed_anywhere():
 def test_a_52_pose_rig_keeps_its_names_and_the_filter_finds_a_pose(open_window, qtbot):
     from studio.core.animation.pose_names import ARKIT_NAMES
     from studio.core.animation.poses import KeyPose
-    from studio.core.project.sample import make_sample
+    from studio.core.project.sample import make_test_face
 
-    project = make_sample(561)
+    project = make_test_face(561)
     rest = project.mesh.rest
     rng = np.random.default_rng(0)
     project.poses = [KeyPose(name, rest + rng.normal(0, 1e-3, rest.shape).astype(np.float32))

@@ -10,14 +10,14 @@ from studio.core.files.errors import MeshError
 from studio.core.files.images import write_png
 from studio.core.mesh.meshio import save_obj
 from studio.core.project.assemble import project_from_files
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.widgets.new_project_dialog import NewProjectDialog
 
 
 @pytest.fixture
 def face_files(tmp_path):
     """The sample face written out as OBJ files and PNG maps, as an artist would bring them."""
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     save_obj(tmp_path / "neutral.obj", project.mesh)
     for pose in project.poses:
         save_obj(tmp_path / f"{pose.name}.obj", project.mesh, pose.positions)
@@ -42,7 +42,7 @@ def test_project_from_files_keeps_geometry_and_maps(face_files):
 
 def test_a_pose_of_another_mesh_is_rejected_naming_the_file(face_files, tmp_path):
     folder, _ = face_files
-    other = make_sample(1071, texture_size=16, mask_size=16)
+    other = make_test_face(1071, texture_size=16, mask_size=16)
     save_obj(tmp_path / "alien.obj", other.mesh)
     with pytest.raises(MeshError, match=r"alien\.obj"):
         project_from_files(folder / "neutral.obj", {"alien": tmp_path / "alien.obj"})
@@ -82,7 +82,7 @@ def test_the_dialog_reports_a_bad_file_and_stays_open(qtbot, tmp_path, dialogs):
 def head_with_eyes(tmp_path):
     """The sample face plus an "eye" (a little quad grid over its forehead) in one OBJ with two
     groups and materials, and a key pose of both: an artist's export with the eyes inside."""
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     mesh = project.mesh
     save_obj(tmp_path / "face.obj", mesh)
     save_obj(tmp_path / "face_pose.obj", mesh, project.poses[0].positions)

@@ -30,7 +30,7 @@ import pytest
 from studio.core.files.errors import ProjectError
 from studio.core.files.png import HEADER_BYTES
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -113,7 +113,7 @@ def test_a_600_mb_npy_member_in_a_600_kb_file_is_refused_in_bounded_memory(tmp_p
     (50000000, 3). It is refused with the reported message, and the process that refused it
     peaked under 100 MB above one that loaded the valid project (before: 1.2 GB)."""
     valid, hostile = tmp_path / "valid.wrinkle", tmp_path / "hostile.wrinkle"
-    save_project(make_sample(1600, texture_size=64, mask_size=32), valid, backup=False)
+    save_project(make_test_face(1600, texture_size=64, mask_size=32), valid, backup=False)
     shape = (50_000_000, 3)
     bomb_project(valid, hostile, "mesh/rest.npy", npy_header(shape), 600_000_000)
     assert hostile.stat().st_size < 1 << 20
@@ -157,7 +157,7 @@ def full(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A valid project with every kind of member: the sample's, and the optional ones added
     (project.json naming them as the writer would)."""
     folder = tmp_path_factory.mktemp("bomb")
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     save_project(project, folder / "sample.wrinkle", backup=False)
     path = folder / "full.wrinkle"
     with zipfile.ZipFile(folder / "sample.wrinkle") as zin, zipfile.ZipFile(path, "w") as zout:
@@ -243,7 +243,7 @@ def test_the_project_with_every_kind_of_member_loads(full: Path) -> None:
     """The project the bombs are made from loads, optional members included: each refusal
     below is its bomb's."""
     loaded = load_project(full)
-    expected = optional_members(make_sample(561, texture_size=64, mask_size=32))
+    expected = optional_members(make_test_face(561, texture_size=64, mask_size=32))
     np.testing.assert_array_equal(loaded.not_face, expected["mesh/not_face.npy"])
     np.testing.assert_array_equal(loaded.uv_tiles.vertex_tile, expected["mesh/vertex_tile.npy"])
     np.testing.assert_array_equal(loaded.wdv.areas[0].cone_angles_deg, 12.5)

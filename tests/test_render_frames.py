@@ -8,7 +8,7 @@ import pytest
 from PIL import Image
 
 from studio.cli import main
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 from tests.test_cli import TEST_FACE
@@ -18,7 +18,7 @@ SIZE = (240, 180)
 
 @pytest.fixture(scope="module")
 def marks():
-    project = make_sample()
+    project = make_test_face()
     return landmark_pixels(project, default_camera(project), *SIZE)
 
 
@@ -89,7 +89,7 @@ def test_a_project_without_animation_says_so(tmp_path, capsys):
     from studio.core.animation.timeline import Timeline
     from studio.core.project.writer import save_project
 
-    project = make_sample(561, 64, 32)
+    project = make_test_face(561, 64, 32)
     project.timeline = Timeline()
     path = tmp_path / "still.wrinkle"
     save_project(project, path)

@@ -15,7 +15,7 @@ from studio.core.files.errors import MeshError, ProjectError
 from studio.core.project.export import export_folder
 from studio.core.project.gltf import load_gltf, save_gltf
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 from studio.core.wrinkles.response import LABELS, CurveBank, ResponseCurve, curves_from_dict
@@ -219,7 +219,7 @@ def test_curves_that_are_not_an_object_are_refused(tmp_path: Path, curved: Path)
 
 @pytest.fixture(scope="module")
 def small_curved():
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     (one, first), (two, second) = [(p, a) for p, g in project.influence.links.items()
                                    for a in g][:2]
     project.influence.curves = {one: {first: EASE_IN}}

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project.sample import landmark_uvs, make_sample, sample_landmarks
+from studio.core.project.sample import landmark_uvs, make_test_face, sample_landmarks
 from studio.core.project.sample_mesh import build_geometry
 from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 
@@ -30,7 +30,7 @@ LANDMARK_NAMES = {"forehead", "forehead right", "forehead left", "between brows"
 
 @pytest.fixture(scope="module")
 def face():
-    return make_sample()
+    return make_test_face()
 
 
 @pytest.fixture(scope="module")
@@ -68,8 +68,8 @@ def test_welded_vertex_count_is_exact(n):
 
 
 @pytest.mark.parametrize("n", [561, 2172])
-def test_make_sample_has_the_requested_vertices(n):
-    project = make_sample(n)
+def test_the_test_face_has_the_requested_vertices(n):
+    project = make_test_face(n)
     assert project.mesh.n_welded == n
     for pose in project.poses:
         assert pose.positions.shape == (n, 3)
@@ -131,7 +131,7 @@ def test_landmarks_lie_on_the_surface(face, marks):
         assert np.linalg.norm(rest - point, axis=1).min() < 1.5 * spacing, name
         assert point[2] > 0.2, name  # on the face, not the back of the head
     # the same place on the face at any resolution
-    fine = sample_landmarks(make_sample(5151))
+    fine = sample_landmarks(make_test_face(5151))
     for name in marks:
         assert np.linalg.norm(fine[name] - marks[name]) < 0.03, name
 
@@ -353,12 +353,12 @@ def test_wdv_preset(face, marks):
 # --- caching and speed --------------------------------------------------------------------------
 
 def test_callers_get_independent_copies():
-    a = make_sample()
+    a = make_test_face()
     a.mesh.rest[:] = 0.0
     a.textures.diffuse[:] = 0
     a.influence.areas[0].mask[:] = 1.0
     a.poses.pop()
-    b = make_sample()
+    b = make_test_face()
     assert np.ptp(b.mesh.rest[:, 1]) > 1.0
     assert b.textures.diffuse.max() > 0
     assert b.influence.areas[0].mask.min() == 0.0
@@ -367,7 +367,7 @@ def test_callers_get_independent_copies():
 
 def test_rejects_too_few_vertices():
     with pytest.raises(ValueError):
-        make_sample(10)
+        make_test_face(10)
 
 
 # --- bump to normal -----------------------------------------------------------------------------

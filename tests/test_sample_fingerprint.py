@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 
 pytestmark = pytest.mark.core
 
@@ -68,7 +68,7 @@ def test_the_sample_is_built_exactly_as_recorded() -> None:
     """Every array, name and number of the sample (mesh, poses, maps, masks, areas, links,
     technique-2 set-up, timeline) matches the recorded fingerprint."""
     reference = json.loads(REFERENCE_FILE.read_text())
-    found = json.loads(json.dumps(fingerprint(make_sample(*SIZE))))  # tuples as lists
+    found = json.loads(json.dumps(fingerprint(make_test_face(*SIZE))))  # tuples as lists
     assert sorted(found) == sorted(reference), "the sample's structure changed"
     for path, expected in reference.items():
         assert _close(found[path], expected), (path, found[path], expected)
@@ -85,5 +85,5 @@ def _close(found: Any, expected: Any) -> bool:
 
 
 if __name__ == "__main__":
-    REFERENCE_FILE.write_text(json.dumps(fingerprint(make_sample(*SIZE)), indent=1,
+    REFERENCE_FILE.write_text(json.dumps(fingerprint(make_test_face(*SIZE)), indent=1,
                                          sort_keys=True) + "\n")

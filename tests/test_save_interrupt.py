@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 from studio.core.project.writer import backup_path, save_project
 
 KILLS = int(os.environ.get("WRINKLE_SAVE_KILLS", "30"))
@@ -48,7 +48,7 @@ def _temps(folder: Path, name: str) -> list[str]:
 
 def test_killed_saves_never_leave_a_broken_file(tmp_path: Path) -> None:
     path = tmp_path / "face.wrinkle"
-    project = make_sample(561, texture_size=64, mask_size=32)
+    project = make_test_face(561, texture_size=64, mask_size=32)
     project.name = "start"
     save_project(project, path)
     rng = random.Random(561)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.project.sample import make_sample, sample_landmarks
+from studio.core.project.sample import make_test_face, sample_landmarks
 from studio.core.wrinkles.strain import StrainField
 
 pytestmark = pytest.mark.core
@@ -44,7 +44,7 @@ def test_stretching_shows_nothing():
 
 
 def test_surprise_compresses_the_forehead_and_not_the_chin():
-    project = make_sample(2172, texture_size=16, mask_size=16)
+    project = make_test_face(2172, texture_size=16, mask_size=16)
     field = StrainField(project.mesh)
     weights = field.weights(project.pose("surprise").positions)
     marks = sample_landmarks(project)

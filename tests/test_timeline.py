@@ -105,9 +105,9 @@ def test_from_dict_sorts_keys_and_rejects_bad_ranges():
 
 
 def test_the_sample_ships_with_an_animation_of_every_pose():
-    from studio.core.project.sample import POSES, make_sample
+    from studio.core.project.sample import POSES, make_test_face
 
-    project = make_sample()
+    project = make_test_face()
     assert [t.pose for t in project.timeline.tracks] == list(POSES)
     assert project.timeline.weights_at(0) == dict.fromkeys(POSES, 0.0)
     assert project.timeline.weights_at(18)[POSES[0]] == 1.0

@@ -15,7 +15,7 @@ from studio.core.animation.pose_names import ARKIT_NAMES
 from studio.core.animation.poses import KeyPose
 from studio.core.animation.timeline import Key, Timeline, Track, sequence_all_poses
 from studio.core.project.model import Project
-from studio.core.project.sample import make_sample
+from studio.core.project.sample import make_test_face
 
 CAPTURE_FPS = 30.0
 CAPTURE_FRAMES = 120  # four seconds of take: the animation loops
@@ -50,7 +50,7 @@ def capture_animation(poses: list[str], frames: int = CAPTURE_FRAMES,
 
 def bench_project(config: Config) -> Project:
     """A fresh sample face for ``config``: its own poses, or ``config.poses`` ARKit ones."""
-    project = make_sample(config.vertices)
+    project = make_test_face(config.vertices)
     return with_arkit_poses(project, config.poses) if config.poses else project
 
 

@@ -1,12 +1,14 @@
-"""The bundled sample face: a procedural head with key poses, maps and both techniques' presets.
+"""The procedural test face: a head with key poses, maps and both techniques' presets, built
+from formulas. (The studio opens on a real head, studio.core.setup.sample_setup; this face was
+its sample before.)
 
-Why procedural: the studio must open with something to look at and the tests need a face whose
-wrinkle regions are known exactly. Geometry (``sample_mesh``) and maps (``sample_maps``) come from
-one analytic surface, so any vertex count (the thesis benchmarks 561 … 5151 and 2172) shares the
-same UVs, maps and landmarks.
+Why procedural: the tests need a face whose wrinkle regions are known exactly, in
+milliseconds, and the benchmark reproduces the thesis's study at its resolutions. Geometry
+(``sample_mesh``) and maps (``sample_maps``) come from one analytic surface, so any vertex count
+(the thesis benchmarks 561 … 5151 and 2172) shares the same UVs, maps and landmarks.
 
-``make_sample`` caches the expensive build and hands every caller its own copy of the arrays, so
-a caller may edit the project it gets without disturbing the next one.
+``make_test_face`` caches the expensive build and hands every caller its own copy of the arrays,
+so a caller may edit the project it gets without disturbing the next one.
 """
 
 from __future__ import annotations
@@ -220,8 +222,8 @@ def _build(vertices: int, texture_size: int, mask_size: int) -> Project:
     )
 
 
-def make_sample(vertices: int = 2172, texture_size: int = 1024, mask_size: int = 512) -> Project:
-    """The sample face with exactly ``vertices`` welded vertices (at least 64).
+def make_test_face(vertices: int = 2172, texture_size: int = 1024, mask_size: int = 512) -> Project:
+    """The test face with exactly ``vertices`` welded vertices (at least 64).
 
     Built once per argument set and cached; each call returns a deep copy, so callers may
     modify what they get.
@@ -278,7 +280,7 @@ __all__ = [
     "NAME",
     "POSES",
     "landmark_uvs",
-    "make_sample",
+    "make_test_face",
     "sample_landmarks",
 ]
 
