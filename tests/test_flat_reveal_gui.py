@@ -56,7 +56,8 @@ def test_the_areas_panel_flags_the_area_on_the_flat_part_with_the_reason(flat_le
     window.docks["Areas"].raise_()
     panel = window.mask_tools.panel
     left, right = panel.rows
-    assert not left.flag.isHidden() and right.flag.isHidden()
+    qtbot.waitUntil(lambda: not left.flag.isHidden())  # measured once the window is up
+    assert right.flag.isHidden()
     assert REASON in left.flag.toolTip()
     click_row(qtbot, panel.list, 1)
     assert panel.flat_note.isHidden()
@@ -72,7 +73,7 @@ def test_the_wrinkle_vectors_panel_flags_its_area_with_the_reason(flat_left, qtb
     panel = window.wdv_tools.panel
     click_row(qtbot, panel.area_list, 0)
     assert window.wdv_tools.current_area.name == "squint left"
-    assert not panel.flat_label.isHidden()
+    qtbot.waitUntil(lambda: not panel.flat_label.isHidden())  # measured once the click settles
     assert REASON in panel.flat_label.text()
 
 

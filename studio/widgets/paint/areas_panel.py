@@ -466,7 +466,9 @@ class AreasPanel(QScrollArea):
             self.auto_pose.addItems(poses)
         self._show_links()
         self._show_resolution()
-        self._show_flat()
+        # measuring a real head's maps takes about a second: off the path of opening the window
+        # or a project, once the first frame is up
+        self._flat_timer.start()
 
     def _show_flat(self) -> None:
         """Flag each area whose weight lands on a flat part of its wrinkled map (the heat of

@@ -8,7 +8,7 @@ the viewport (S), press Create, move the pose slider to preview.
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QColor, QIcon, QKeySequence, QPixmap
 from PySide6.QtWidgets import (
     QAbstractItemView,
@@ -38,6 +38,8 @@ from studio.widgets.slider_row import SliderRow
 from studio.widgets.wdv import edits
 from studio.widgets.wdv.tools import WdvTools
 
+FLAT_CHECK_MS = 300  # the flat-map check waits for the window to show and edits to settle
+
 
 def swatch(colour: tuple[int, int, int], size: int = 14) -> QIcon:
     pixmap = QPixmap(size, size)
@@ -55,6 +57,12 @@ class WdvPanel(QScrollArea):
         self.setWidgetResizable(True)
         self.setMinimumHeight(300)  # the area list and the main buttons stay in sight
         self._updating = False
+        # measuring a real head's maps takes about a second: once the window is up and the
+        # edits settle, not on the path of opening it or of each change
+        self._flat_timer = QTimer(self)
+        self._flat_timer.setSingleShot(True)
+        self._flat_timer.setInterval(FLAT_CHECK_MS)
+        self._flat_timer.timeout.connect(lambda: self._show_flat(self.tools.current_area))
         self._build()
         doc.wdvChanged.connect(self._refresh)
         doc.projectReplaced.connect(self._refresh)
@@ -333,7 +341,7 @@ class WdvPanel(QScrollArea):
                 self.colour_button.setIcon(swatch(current.colour, 16))
                 self.colour_button.setText(" #{:02x}{:02x}{:02x}".format(*current.colour))
                 self.create_button.setText(f"Create for “{current.name}”")
-            self._show_flat(current)
+            self._flat_timer.start()
         finally:
             self._updating = False
 
