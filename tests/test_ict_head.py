@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from studio.core.files.errors import StudioError
 from studio.core.project.ict_head import NOT_SKIN_MATERIALS, load_ict_head
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import face_frame, face_locator
@@ -119,3 +120,16 @@ def test_the_face_box_ends_at_the_chin_and_names_each_pose_after_its_place(subse
     report = suggest_setup(project, locate=face_locator(frame), poses=list(named))
     for pose, places in named.items():
         assert report.regions[pose] in places, (pose, report.regions[pose])
+
+
+@pytest.mark.core
+def test_an_unknown_pose_of_a_big_rig_is_answered_with_the_closest_names() -> None:
+    """53 poses make a line too long to read: the message counts them and names the closest."""
+    project = load_ict_head(poses=None)
+    with pytest.raises(StudioError) as refused:
+        project.pose("browInnerUpL")
+    assert str(refused.value) == ("unknown pose 'browInnerUpL' (the project has 53 key poses "
+                                  "and the neutral; closest: browInnerUp_L, browInnerUp_R, "
+                                  "browOuterUp_L, browOuterUp_R)")
+    with pytest.raises(StudioError, match=r"53 key poses and the neutral\)$"):
+        project.pose("zzz")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -14,6 +15,8 @@ from studio.core.mesh.uv_tiles import UvTiles
 from studio.core.wrinkles.influence import InfluenceSetup
 from studio.core.wrinkles.textures import FaceTextures
 from studio.core.wrinkles.wdv import WdvSetup
+
+MANY_POSE_NAMES = 12  # past this, a message names the closest poses instead of all
 
 
 @dataclass(eq=False)
@@ -93,7 +96,13 @@ class Project:
         for pose in self.poses:
             if pose.name == name:
                 return pose
-        raise StudioError(f"unknown pose '{name}' (poses: {', '.join(self.pose_names)})")
+        names = self.pose_names
+        if len(names) <= MANY_POSE_NAMES:
+            raise StudioError(f"unknown pose '{name}' (poses: {', '.join(names)})")
+        close = difflib.get_close_matches(name, names, n=4, cutoff=0.5)
+        hint = f"; closest: {', '.join(close)}" if close else ""
+        raise StudioError(f"unknown pose '{name}' (the project has {len(names) - 1} key poses "
+                          f"and the neutral{hint})")
 
     def single_pose_weights(self, name: str, weight: float = 1.0) -> dict[str, float]:
         """Weights that show one key pose (at ``weight``) and nothing else."""
