@@ -17,13 +17,14 @@ from studio.core.setup.face_frame import face_frame, face_locator
 from studio.core.setup.sample_setup import EXPRESSIONS, WRINKLING, sample_project
 from tests.test_skin_uv_writes import check_where_compressed, most_compressed
 
-POSES = ["browInnerUp_L", "browDown_L", "mouthSmile_L", "eyeSquint_L"]
+POSES = ["browInnerUp_L", "browDown_L", "mouthSmile_L", "eyeSquint_L"]  # judged by render
+ISSUE_POSES = [*POSES, "jawOpen"]  # the issue's `new --mesh … --pose … --auto`
 
 
 @pytest.fixture(scope="module")
 def head():
-    """The head with its four test poses, set up as `new --auto` does, eyes kept."""
-    project = load_ict_head(poses=POSES)
+    """The head with the issue's five poses, set up as `new --auto` does, eyes kept."""
+    project = load_ict_head(poses=ISSUE_POSES)
     auto_start(project, locate=face_locator(face_frame(project)))
     return project
 
@@ -50,16 +51,14 @@ def test_masks_and_furrows_lie_where_each_pose_compresses_with_the_eyes_kept(hea
     check_where_compressed(head, POSES)
 
 
-def test_a_default_render_shows_each_pose_s_wrinkles_near_it_and_nowhere_else() -> None:
-    """The sample as the studio opens on it, 800 × 800, the default camera, each pose at full
-    weight: technique 1 and technique 2 each change at least 1 % of the render (the issue
-    measured 0.000 % with the eyes kept), and nothing more than 0.45 of the face's height from
-    where the pose compresses (a brow raise leaves the mouth and chin alone, a smile the
-    forehead)."""
+def check_default_renders(head) -> None:
+    """800 × 800, the default camera, each pose at full weight: technique 1 and technique 2
+    each change at least 1 % of the render (the issue measured 0.000 % with the eyes kept),
+    and nothing more than 0.45 of the face's height from where the pose compresses (a brow
+    raise leaves the mouth and chin alone, a smile the forehead)."""
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
 
-    head = sample_project()
     size = 800
     with OffscreenStudio(head, size, size) as studio:
         background = studio.render(RenderSettings(technique="none"), {})[0, 0].astype(int)
@@ -79,6 +78,19 @@ def test_a_default_render_shows_each_pose_s_wrinkles_near_it_and_nowhere_else() 
                 changed = np.abs(image.astype(int) - plain).max(-1) > 4
                 assert changed.mean() >= 0.01, (pose, technique, changed.mean())
                 assert not changed[far].any(), (pose, technique, "changed far away")
+
+
+def test_the_sample_s_default_render_shows_each_pose_s_wrinkles_near_it_only() -> None:
+    """The sample as the studio opens on it (17 wrinkling poses, their maps shared)."""
+    check_default_renders(sample_project())
+
+
+def test_the_issue_s_five_pose_new_auto_shows_each_pose_s_wrinkles_near_it_only(head) -> None:
+    """The issue's `new --auto` with five poses: each pose's furrows on a map of their own
+    or shared with one or two others. The squint compresses a small blob under the eye
+    (1.3 % of the skin): it reached 0.5 % here while its smoothed compression stayed under
+    the depth's full_at and its mask was a linear ramp."""
+    check_default_renders(head)
 
 
 def test_the_sample_is_the_head_set_up_with_a_timeline_of_expressions() -> None:

@@ -54,17 +54,19 @@ Array = np.ndarray
 Progress = Callable[[int, int], bool]  # (done, total) -> keep going
 
 WORK_SIZE = 256  # strain fields are smooth: rasterised at most this size, then upsampled
-SHARPNESS = 2.5  # exponent of the valley profile: higher = narrower furrows between flat skin
+SHARPNESS = 2.0  # exponent of the valley profile: higher = narrower furrows between flat skin
 PEAK_SHARE = 0.5  # a pose's furrows are at full depth from half its strong compression on
+SMOOTH_PEAK_SHARE = 0.4  # … or from this share of its smoothed compression's peak, if less:
+# a small region (an eye's lower lid) blurred at the face's furrow scale stays below full_at
 FURROW_SPACING = 0.025  # between neighbouring furrows, as a share of the face's size …
-DEPTH_PER_SPACING = 0.25  # … and their depth, as a share of the spacing (3 texels in 12)
+DEPTH_PER_SPACING = 0.35  # … and their depth, as a share of the spacing (about 4 texels in 12)
 FURROWS_EACH_SIDE = 4.0  # of the deepest furrow, before the others fade to a third
 FURROWS_ACROSS = 4.0  # a region at least this many furrows across, …
 MAX_FINER = 2.0  # … spacing them up to this much closer than the face's spacing
 RING_SPACINGS = 2.0  # furrows curling tighter than rings this many spacings across are dropped
 ORIENT_PASSES = 4  # neighbourhood votes that orient a region's wave vectors alike …
 ORIENT_RADIUS = 6.0  # … over about this many work texels
-FURROW_THRESHOLD = 0.15  # furrows where a pose's strength is at least this, fading in above it
+FURROW_THRESHOLD = 0.08  # furrows where a pose's strength is at least this, fading in above it
 MAX_PHASE_GAIN = 4.0  # at most this much steeper than the potential of a region's wave field
 CROSSING_ANGLE = 30.0  # degrees: furrows of two poses this far apart do not share a map
 CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's furrows
@@ -190,6 +192,8 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         return np.where(covered, per_triangle[tri], 0.0).astype(np.float32)
 
     amount = mask_ops.blur(layer(compression), radius)
+    full_at = min(full_at, max(SMOOTH_PEAK_SHARE * float(amount.max(initial=0.0)),
+                               WRINKLING_COMPRESSION))
     total = mask_ops.blur(np.clip(layer(weight), 0.0, 1.0), radius)
     c = _smooth_signed(layer(np.clip(weight, 0.0, 1.0) * cos2), radius)
     s = _smooth_signed(layer(np.clip(weight, 0.0, 1.0) * sin2), radius)

@@ -151,14 +151,17 @@ def compression_weights(strain: SkinStrain, per_triangle: Array, threshold: floa
                         ) -> Array:
     """(W,) soft weights in [0, 1] where a pose compresses the skin: each vertex's principal
     compression (``per_triangle``, from :meth:`SkinStrain.of`) over the pose's strong
-    compression (the 98th percentile over compressed vertices), below ``threshold`` of that 0;
+    compression (the 98th percentile over compressed vertices), below ``threshold`` of that 0,
+    eased out (``w·(2 − w)``: a mask an artist paints is near full over most of the area that
+    wrinkles and falls off at its edge, not a ramp that shows the furrows half-strength);
     all 0 for a pose that compresses no skin by ``WRINKLING_COMPRESSION`` anywhere (a stretch,
     a rotation, float noise)."""
     if per_triangle.max(initial=0.0) < WRINKLING_COMPRESSION:
         return np.zeros(strain.mesh.n_welded, np.float32)
     comp = strain.per_vertex(per_triangle)
     scale = max(float(np.percentile(comp[comp > 0.0], 98)), 1e-12)
-    return np.clip((comp / scale - threshold) / (1.0 - threshold), 0.0, 1.0).astype(np.float32)
+    w = np.clip((comp / scale - threshold) / (1.0 - threshold), 0.0, 1.0)
+    return (w * (2.0 - w)).astype(np.float32)
 
 
 @dataclass
