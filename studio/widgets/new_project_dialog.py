@@ -2,7 +2,8 @@
 
 When the neutral mesh is an OBJ with several objects, groups or materials, a table lists them:
 keep them all or only the ticked ones (the key poses are cut the same way), and tick the parts
-that are not skin (eyes, teeth) so they never wrinkle. A glTF's meshes and materials are listed
+that are not skin (eyes, teeth) so they never wrinkle — suggested by name, as small closed
+shells, and as parts the key poses move rigidly. A glTF's meshes and materials are listed
 the same way, with what was found already ticked: the meshes its morph targets move kept, its
 eyes and teeth not face.
 """
@@ -36,7 +37,11 @@ from PySide6.QtWidgets import (
 
 from studio.core.files.errors import StudioError
 from studio.core.mesh.meshio import ObjGroup, obj_groups
-from studio.core.project.assemble import project_from_files, suggest_not_face
+from studio.core.project.assemble import (
+    project_from_files,
+    suggest_not_face,
+    suggest_obj_parts,
+)
 from studio.core.project.gltf import gltf_parts
 from studio.core.project.model import Project
 from studio.core.setup.auto_setup import auto_start
@@ -92,6 +97,9 @@ class PartsBox(QGroupBox):
         super().__init__("Parts of the mesh")
         self.groups: list[ObjGroup] = []
         self.found: tuple[set[str], set[str]] | None = None  # a glTF's kept and not-face names
+        # an OBJ's not-face suggestion for a kind of part: {name: why}; by name when unset
+        self.suggest: Callable[[str], dict[str, str]] | None = None
+        self.not_face_edited = False  # the user changed a not-face tick: suggestions keep off
         self.kind = QComboBox()
         self.kind.currentIndexChanged.connect(self._fill)
         self.keep_all = QRadioButton("Keep all parts")
@@ -108,9 +116,11 @@ class PartsBox(QGroupBox):
         header.setSectionResizeMode(QHeaderView.ResizeMode.ResizeToContents)
         header.setSectionResizeMode(self.NAME, QHeaderView.ResizeMode.Stretch)
         self.table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
+        self.table.itemChanged.connect(self._edited)
         hint = QLabel("Not face: eyes, teeth, tongue… keep their shading but never wrinkle "
-                      "(a vertex is not face when all its faces are). The key poses are cut "
-                      "like the neutral mesh.")
+                      "(a vertex is not face when all its faces are). Ticked to start with: "
+                      "parts named so, small closed shells and parts the key poses only move "
+                      "rigidly (hover for why). The key poses are cut like the neutral mesh.")
         hint.setWordWrap(True)
         top = QHBoxLayout()
         top.addWidget(QLabel("Parts by"))
@@ -130,6 +140,7 @@ class PartsBox(QGroupBox):
         shown first, and likely non-skin parts start ticked as not face. ``found``: the names
         a glTF's face finding keeps and marks not face, ticked to start with."""
         self.groups, self.found = groups, found
+        self.not_face_edited = False
         counts = {k: sum(g.kind == k for g in groups) for k in KIND_LABELS}
         kinds = [k for k in KIND_LABELS if counts[k] > 1]
         self.kind.blockSignals(True)
@@ -145,7 +156,8 @@ class PartsBox(QGroupBox):
     def _fill(self) -> None:
         shown = [g for g in self.groups if g.kind == self.kind.currentData()]
         kept = self.found[0] if self.found else {g.name for g in shown}
-        suggested = self.found[1] if self.found else set(suggest_not_face(g.name for g in shown))
+        suggested = self._suggested(shown)
+        self.table.blockSignals(True)
         self.table.setRowCount(0)
         for row, group in enumerate(shown):
             self.table.insertRow(row)
@@ -159,7 +171,43 @@ class PartsBox(QGroupBox):
                 item.setFlags(Qt.ItemFlag.ItemIsUserCheckable | Qt.ItemFlag.ItemIsEnabled)
                 item.setCheckState(Qt.CheckState.Checked if ticked else Qt.CheckState.Unchecked)
                 self.table.setItem(row, column, item)
+            if group.name in suggested:
+                why = f"Suggested as not face: {suggested[group.name]}"
+                self.table.item(row, self.NAME).setToolTip(why)
+                self.table.item(row, self.NOT_FACE).setToolTip(why)
+        self.table.blockSignals(False)
         self._enable_keep()
+
+    def _suggested(self, shown: list[ObjGroup]) -> dict[str, str]:
+        """{name: why} of the shown parts to tick as not face: a glTF's finding, else the
+        OBJ's suggestion for this kind (names, small closed shells, rigid motion), else names."""
+        if self.found:
+            return dict.fromkeys(self.found[1], "found with the face")
+        if self.suggest is not None:
+            try:
+                return self.suggest(self.kind.currentData())
+            except StudioError:
+                pass  # the file is reported at Create; names still help
+        return dict.fromkeys(suggest_not_face(g.name for g in shown), "name")
+
+    def resuggest(self) -> None:
+        """The suggestion again (key poses were added or removed: rigid motion may show),
+        unless the user has ticked or unticked not-face parts themselves."""
+        if self.not_face_edited or self.isHidden():
+            return
+        suggested = self._suggested([])
+        self.table.blockSignals(True)
+        self.set_ticked(self.NOT_FACE, set(suggested))
+        for row in range(self.table.rowCount()):
+            why = suggested.get(self.table.item(row, self.NAME).text())
+            tip = f"Suggested as not face: {why}" if why else ""
+            self.table.item(row, self.NAME).setToolTip(tip)
+            self.table.item(row, self.NOT_FACE).setToolTip(tip)
+        self.table.blockSignals(False)
+
+    def _edited(self, item: QTableWidgetItem) -> None:
+        if item.column() == self.NOT_FACE:
+            self.not_face_edited = True
 
     def _enable_keep(self) -> None:
         flags = Qt.ItemFlag.ItemIsUserCheckable
@@ -221,7 +269,7 @@ class NewProjectDialog(QDialog):
         add = QPushButton("Add key poses…")
         add.clicked.connect(self.add_poses)
         remove = QPushButton("Remove")
-        remove.clicked.connect(lambda: self.poses.removeRow(self.poses.currentRow()))
+        remove.clicked.connect(self.remove_pose)
         form = QFormLayout()
         form.addRow("Neutral mesh", self.mesh)
         form.addRow("Diffuse", self.diffuse)
@@ -257,6 +305,8 @@ class NewProjectDialog(QDialog):
                     found = (chosen[0], chosen[1])
             except StudioError:
                 groups, found = [], None
+        self.parts.suggest = (None if suffix != ".obj" or not groups else
+                              lambda kind: suggest_obj_parts(path, kind, self.pose_files()))
         self.parts.set_groups(groups, found)
 
     def add_poses(self) -> None:
@@ -266,6 +316,12 @@ class NewProjectDialog(QDialog):
             remember_folder(names[0])
         for name in names:
             self.add_pose(Path(name).stem, name)
+        if names:
+            self.parts.resuggest()
+
+    def remove_pose(self) -> None:
+        self.poses.removeRow(self.poses.currentRow())
+        self.parts.resuggest()
 
     def add_pose(self, name: str, path: str) -> None:
         row = self.poses.rowCount()

@@ -17,9 +17,9 @@ import numpy as np
 
 from studio.core.animation.poses import NEUTRAL
 from studio.core.files.errors import MeshError
-from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices
+from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices, obj_groups
 from studio.core.mesh.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
-from studio.core.project.face_parts import suggest_names
+from studio.core.project.face_parts import Part, suggest_names, suggest_parts
 from studio.core.project.gltf import load_gltf
 from studio.core.project.model import Project
 from studio.core.project.texture_sets import load_texture
@@ -31,6 +31,35 @@ FLAT_NORMAL = (128, 128, 255)
 def suggest_not_face(names: Iterable[str]) -> list[str]:
     """The part names that look like eyes, teeth or tongue: a starting choice for the user."""
     return suggest_names(names)
+
+
+def suggest_obj_parts(mesh: str | Path, kind: str,
+                      poses: Mapping[str, str | Path] | None = None) -> dict[str, str]:
+    """An OBJ's parts of ``kind`` (object, group or material) that look not face, each with
+    why (``face_parts.suggest_parts``): by name, as a small closed shell, or — with key-pose
+    files — moved rigidly by every pose that moves it. A pose file that cannot be read is
+    left out here (Create reports it). Never every part: the largest stays face."""
+    face = load_mesh(mesh)
+    names = [g.name for g in obj_groups(mesh) if g.kind == kind]
+    shapes = []
+    for path in (poses or {}).values():
+        try:
+            shapes.append(load_pose(path, face).positions)
+        except MeshError:
+            continue
+    tris = face.welded_triangles
+    parts, sizes = [], []
+    for name in names:
+        inside = not_face_vertices(face, [name], kind)
+        own = tris[inside[tris].all(axis=1)]
+        vertices, local = np.unique(own, return_inverse=True)
+        parts.append(Part([name], face.rest[vertices], local.reshape(-1, 3),
+                          [shape[vertices] for shape in shapes]))
+        sizes.append(len(own))
+    flagged = {names[i]: why for i, why in suggest_parts(parts).items()}
+    if names and len(flagged) == len(names):
+        del flagged[names[int(np.argmax(sizes))]]
+    return flagged
 
 
 def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
