@@ -5,6 +5,7 @@ no triangle uses."""
 
 from __future__ import annotations
 
+import moderngl
 import numpy as np
 import pytest
 
@@ -13,6 +14,8 @@ from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.wrinkles.strain import StrainField
+from studio.core.wrinkles.wdv import SLOTS, WdvSlots, visibility
+from studio.render import deform_pass
 from studio.render.gpu_deform import GpuDeformPass
 from studio.render.programs import Programs
 
@@ -186,3 +189,74 @@ def test_a_bad_deform_choice_is_one_error(monkeypatch):
     monkeypatch.setenv("WRINKLE_DEFORM", "quantum")
     with pytest.raises(RenderError, match="WRINKLE_DEFORM=quantum: choose auto, gpu, cpu"):
         deform_choice()
+
+
+def random_slots(n_welded: int, seed: int) -> WdvSlots:
+    """Four slots per vertex, as pack_slots makes them: random unit directions, authored
+    lengths, cones of 20–90° and wrinkled maps 0–3; a quarter of the slots unused."""
+    rng = np.random.default_rng(seed)
+    dirs = rng.normal(size=(n_welded, SLOTS, 3))
+    dirs /= np.linalg.norm(dirs, axis=2, keepdims=True)
+    lengths = rng.uniform(0.02, 0.12, (n_welded, SLOTS)) * (rng.random((n_welded, SLOTS)) > 0.25)
+    return WdvSlots(np.concatenate([dirs, lengths[..., None]], axis=2).astype(np.float32),
+                    np.radians(rng.uniform(20.0, 90.0, (n_welded, SLOTS))).astype(np.float32),
+                    rng.integers(0, 4, (n_welded, SLOTS)).astype(np.float32))
+
+
+@pytest.mark.parametrize("scale_free", [True, False])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_technique_2_weights_from_gpu_positions_are_numpy_s(gl_context, sheet, seed, scale_free):
+    """Technique 2's per-vertex weights as the face's vertex shader computes them from the
+    positions the GPU blended (captured by transform feedback), against ``wdv.visibility`` of
+    the numpy blend: every map's weight, each slot's cone, scale-free or not."""
+    mesh, poses = sheet
+    weights = np.random.default_rng(seed).uniform(0.2, 1.4, len(poses))
+    slots = random_slots(mesh.n_welded, seed)
+    # the motion is the poses' own, so some vertices fall inside their slots' cones
+    blended = PoseBlender(mesh.rest, poses).blend(
+        dict(zip((p.name for p in poses), weights.tolist(), strict=True)))
+    delta = blended - mesh.rest
+    moving = np.linalg.norm(delta, axis=1) > 0
+    slots.dirs[moving, 0, :3] = delta[moving] / np.linalg.norm(delta[moving], axis=1)[:, None]
+    slots.dirs[moving, 0, :3] += np.float32(0.2) * slots.dirs[moving, 1, :3]  # off-centre
+    slots.dirs[..., :3] /= np.linalg.norm(slots.dirs[..., :3], axis=2, keepdims=True)
+    k = 1.7 if scale_free else 12.0  # motions of a few hundredths: weights up to 1 either way
+    expected = visibility(delta, slots, k, scale_free)[mesh.weld]
+    shown = expected.max(axis=1)
+    assert 0.15 < (shown > 0).mean() < 0.9 and (shown == 1).any()
+    assert ((expected > 0.05) & (expected < 0.95)).sum() >= 5  # in the cones, not clamped
+    assert len(np.unique(np.argmax(expected, axis=1)[shown > 0])) > 1  # to more than one map
+
+    ctx = gl_context
+    programs = Programs(ctx)
+    deform = GpuDeformPass(ctx, programs, mesh, poses)
+    weld = mesh.weld
+    static = ctx.buffer(np.hstack([mesh.uvs, mesh.rest[weld]]).astype("f4").tobytes())
+    packed = np.hstack([slots.dirs.reshape(mesh.n_welded, -1)[weld], slots.cones[weld],
+                        slots.maps[weld]]).astype("f4")
+    wdv = ctx.buffer(packed.tobytes())
+    skin = ctx.buffer(np.ones(mesh.n_vertices, "f4").tobytes())
+    out = ctx.buffer(reserve=mesh.n_vertices * 16)
+    try:
+        deform.set_weights(np.float32(weights))
+        deform.upload("mikktspace")
+        prog = programs.feedback("face.vert", ("v_weights",), ("TECHNIQUE_T2",))
+        for name in ("u_view", "u_proj"):
+            prog[name].write(np.eye(4, dtype="f4").tobytes())
+        prog["u_expression"].value = k
+        prog["u_scale_free"].value = scale_free
+        vao = ctx.vertex_array(prog, [(deform.buffer, deform_pass.ATTRIBUTES, *deform_pass.NAMES),
+                                      (static, "2f 3f", "in_uv", "in_rest"),
+                                      (skin, "1f", "in_skin"),
+                                      (wdv, "16f 4f 4f", "in_wdv", "in_cone", "in_slot_map")],
+                               skip_errors=True)
+        vao.transform(out, moderngl.POINTS, vertices=mesh.n_vertices)
+        got = np.frombuffer(out.read(), np.float32).reshape(-1, 4)
+        vao.release()
+    finally:
+        for buffer in (static, wdv, skin, out):
+            buffer.release()
+        deform.release()
+        programs.release()
+    # float32 positions and the GPU's acos: within a quarter of one 8-bit level of the heat view
+    np.testing.assert_allclose(got, expected, atol=1e-3)
