@@ -52,6 +52,7 @@ GPU_REFERENCE = "tests/test_gpu_reference.py"
 DEFORM = "tests/test_gpu_deform.py"
 TANGENT = "tests/test_tangent_render.py"
 RELIEF = "tests/test_relief.py"
+TESSELLATION = "tests/test_tessellation_reference.py"
 # each shader file and the tests that draw with it, quickest and most telling first
 TESTS: dict[str, tuple[str, ...]] = {
     "face.frag": (FRAGMENT, TANGENT, RENDER, RELIEF),  # relief: the parallax code
@@ -63,9 +64,9 @@ TESTS: dict[str, tuple[str, ...]] = {
     "deform_frame.vert": (DEFORM,),
     "deform_strain.vert": (DEFORM,),
     "deform_data.glsl": (DEFORM,),
-    "relief.glsl": (RELIEF,),
-    "face.tesc": (RELIEF,),
-    "face.tese": (RELIEF,),
+    "relief.glsl": (TESSELLATION, RELIEF),
+    "face.tesc": (TESSELLATION, RELIEF),
+    "face.tese": (TESSELLATION, RELIEF),
 }
 
 _NUMBER = r"(?<![\w.])(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?(?![\w.])"
@@ -212,17 +213,31 @@ def table(results: list[Result], files: list[str], counts: dict[str, int]) -> st
     return "\n".join(rows)
 
 
-def write_survivors(results: list[Result], sampled: bool, seconds: float) -> None:
+def write_survivors(results: list[Result], files: list[str], sampled: bool,
+                    seconds: float) -> None:
+    """The survivors of this run, replacing the lines of the files it mutated; the lines of
+    files it did not run stay, so a run of one file updates its part of the list."""
     survivors = [r for r in results if r.outcome == "survived"]
-    head = [f"# GLSL mutants no test catches ({len(survivors)} of {len(results)} run"
-            + (", a seeded sample" if sampled else "") + f"; {seconds / 60:.0f} min), written "
-            "by scripts/glsl_mutation.py.", "# file:line  kind  - before | + after", ""]
+    kept = []
+    if SURVIVORS.exists():
+        kept = [line for line in SURVIVORS.read_text().splitlines()
+                if line and not line.startswith("#") and line.split(":", 1)[0] not in files]
+    head = [f"# GLSL mutants no test catches, written by scripts/glsl_mutation.py; the last run "
+            f"({', '.join(files)}): {len(survivors)} of {len(results)} run"
+            + (", a seeded sample" if sampled else "") + f", {seconds / 60:.0f} min.",
+            "# file:line  kind  - before | + after", ""]
     body = []
-    for r in sorted(survivors, key=lambda r: (r.mutant.file, r.mutant.line, r.mutant.start)):
+    for r in survivors:
         lines = (SHADERS / r.mutant.file).read_text().splitlines(keepends=True)
         before, after = r.mutant.describe(lines)
         body.append(f"{r.mutant.file}:{r.mutant.line}  {r.mutant.kind}  - {before} | + {after}")
-    SURVIVORS.write_text("\n".join(head + body) + "\n")
+    order = {f: k for k, f in enumerate(TESTS)}
+
+    def place(line: str) -> tuple[int, int]:
+        file, rest = line.split(":", 1)
+        return order.get(file, len(order)), int(rest.split()[0])
+
+    SURVIVORS.write_text("\n".join(head + sorted(kept + body, key=place)) + "\n")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -275,7 +290,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\n{len(results)} mutants in {seconds / 60:.1f} min"
           + (f" (a sample of {len(chosen)} of {sum(counts.values())}, seed {args.seed})"
              if args.sample else ""))
-    write_survivors(results, bool(args.sample), seconds)
+    write_survivors(results, files, bool(args.sample), seconds)
     print(f"survivors: {SURVIVORS.relative_to(ROOT)}")
     return 0
 
