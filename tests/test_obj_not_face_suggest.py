@@ -30,7 +30,7 @@ def head_parts(shift: float = 0.0) -> tuple[np.ndarray, list[tuple[str, list[tup
     sheet[xs.ravel() == 0, 0] += shift  # skin stretches and squeezes: not rigid
     quads = [(r * 5 + c, r * 5 + c + 1, (r + 1) * 5 + c + 1, (r + 1) * 5 + c)
              for r in range(4) for c in range(4)]
-    ball = BALL + [0.0, 0.0, 3.0]
+    ball = BALL + np.array([0.0, 0.0, 3.0])
     patch = np.array([[0, -14, 0], [2, -14, 0], [2, -12, 0], [0, -12, 0]], float)
     patch += [0.0, shift, 0.0]
     points = np.vstack([sheet, ball, patch])

@@ -161,3 +161,25 @@ def test_corner_angles_by_hand():
         np.testing.assert_allclose(angles, expected, atol=1e-9)
     sliver = np.array([[[0.0, 0, 0], [1.0, 0, 0], [0.5, 1e-9, 0]]])
     np.testing.assert_allclose(corner_angles(sliver)[0].sum(), np.pi, atol=1e-12)
+
+
+def test_the_posed_frame_s_angles_are_the_corner_angles_degenerate_triangles_too():
+    """Every posed frame takes the third angle as π minus the other two: the same angles as
+    three atan2s, on random triangles, a sliver, three points in a line and two corners at one
+    point (which has no angle but the atan2's 0 at the lone corner)."""
+    from studio.core.mesh.tangent_frames import _posed_angles
+
+    rng = np.random.default_rng(4)
+    corners = rng.normal(size=(200, 3, 3))
+    corners[0] = [[0, 0, 0], [1, 0, 0], [0.5, 1e-6, 0]]  # a sliver
+    corners[1] = [[0, 0, 0], [1, 0, 0], [3, 0, 0]]  # in a line: 180° at corner 1
+    corners[2] = [[0, 0, 0], [2, 0, 0], [-1, 0, 0]]  # in a line: 180° at corner 0
+    corners[3] = [[0, 0, 0], [0, 0, 0], [1, 1, 0]]  # corners 0 and 1 at one point
+    corners[4] = [[1, 2, 3], [4, 5, 6], [4, 5, 6]]  # corners 1 and 2 at one point
+    c = np.moveaxis(corners, 2, 0)
+    edges = (c[:, :, 1] - c[:, :, 0], c[:, :, 2] - c[:, :, 0], c[:, :, 2] - c[:, :, 1])
+    np.testing.assert_allclose(_posed_angles(*edges), corner_angles(corners), atol=1e-12)
+    np.testing.assert_allclose(_posed_angles(*edges)[1], [0.0, np.pi, 0.0], atol=1e-12)
+    as_float32 = _posed_angles(*(e.astype(np.float32) for e in edges))
+    assert as_float32.dtype == np.float32
+    np.testing.assert_allclose(as_float32, corner_angles(corners), atol=2e-6)

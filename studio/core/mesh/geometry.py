@@ -362,7 +362,8 @@ class DeformCache:
     temporary is preallocated. And a frame redoes only what its moved positions reach: key poses
     move part of a face, so the triangles with a moved corner and the render vertices of their
     welded corners are recomputed, the rest of the buffer is kept from the previous frame
-    (``last_recomputed`` says how many vertices a frame redid).
+    (``last_recomputed`` says how many vertices a frame redid). In the MikkTSpace-style frame
+    Lengyel's T and B are not computed at all: only the normals, then that frame's tangents.
     """
 
     def __init__(self, mesh: FaceMesh, frame: str = "thesis") -> None:
@@ -456,8 +457,8 @@ class DeformCache:
         self._faceless_any = bool(self._faceless.any())
         self._outside = np.empty(n_w, dtype=bool)
         self._regions: list[_Region] = []  # most recently used first
-        self._sub_face8 = np.empty((n_f, 8), f32)
-        self._sub_face_z = np.empty(n_f, f32)
+        self._sub_face8 = np.zeros((n_f, 8), f32)  # T, B stay 0 in the MikkTSpace frame
+        self._sub_face_z = np.zeros(n_f, f32)
         self._sub_sums8 = np.empty((n_v, 8), f32)
         self._sub_sums_z = np.empty(n_v, f32)
         self._sub_row = np.empty((n_v, 10), f32)
@@ -680,6 +681,8 @@ class DeformCache:
             np.multiply(e1[j], e2[k], out=tmp1)
             np.multiply(e1[k], e2[j], out=tmp[0])
             np.subtract(tmp1, tmp[0], out=face8[:, i])
+        if self.frame != "thesis":
+            return  # the MikkTSpace-style frame replaces T and B: the normals are all it needs
         a, b, c, d = coef
         np.multiply(e1, a, out=tmp)
         for comp in range(3):
@@ -704,6 +707,10 @@ class DeformCache:
         n *= v1
         if mask.any():
             n[:, mask] = np.array(FALLBACK_NORMAL, np.float32)[:, None]
+        if self.frame != "thesis":  # columns 6–9 are the MikkTSpace-style frame's, filled next
+            for comp in range(3):
+                row[:, 3 + comp] = n[comp]
+            return
 
         # Handedness from the sums: (N×T)·B < 0 → -1, else +1 (N×T' = N×T, so before G–S).
         _cross_dot(n, t, bt, v1, v2, v3)

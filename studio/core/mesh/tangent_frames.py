@@ -84,6 +84,34 @@ def _edge_angles(e01: Array, e02: Array, e12: Array) -> Array:
     return np.arctan2(cross[:, None], dots)
 
 
+def _rows_at(rows: Array, index: Array) -> Array:
+    """``rows[:, index]`` for component rows (3, n), a ``take`` per row: numpy's 2-D fancy
+    index gathers several times slower, and this runs on every posed frame."""
+    out = np.empty((len(rows), len(index)), rows.dtype)
+    for k in range(len(rows)):
+        np.take(rows[k], index, out=out[k])
+    return out
+
+
+def _posed_angles(e01: Array, e02: Array, e12: Array) -> Array:
+    """``_edge_angles`` for every posed frame, a third cheaper: the angles at corners 0 and 1
+    by ``atan2``, the third as π minus them (a triangle's angles sum to π). That holds for
+    triangles without area too: points in a line have one angle of π, and where two corners
+    meet, ``atan2(0, −0.0)`` is π at the second of them, as three ``atan2`` s give."""
+    def dot(a: Array, b: Array) -> Array:
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+    cx = e01[1] * e02[2] - e01[2] * e02[1]
+    cy = e01[2] * e02[0] - e01[0] * e02[2]
+    cz = e01[0] * e02[1] - e01[1] * e02[0]
+    cross = np.sqrt(cx * cx + cy * cy + cz * cz)
+    out = np.empty((len(cross), 3), cross.dtype)
+    np.arctan2(cross, dot(e01, e02), out=out[:, 0])
+    np.arctan2(cross, -dot(e01, e12), out=out[:, 1])
+    np.maximum(np.pi - out[:, 0] - out[:, 1], 0.0, out=out[:, 2])
+    return out
+
+
 def perpendicular(normals: Array) -> Array:
     """Some unit vector perpendicular to each unit normal, for vertices without a tangent."""
     n = np.asarray(normals, dtype=np.float64)
@@ -153,13 +181,14 @@ class MikkTSpaceFrame:
         ``(F, 3)``, in float32 (the vertex buffer's precision) and component-major, so each
         step is a flat pass over the triangles: this runs on every posed frame."""
         pos_t = np.ascontiguousarray(np.asarray(positions_welded, dtype=np.float32).T)
-        c0, c1, c2 = pos_t[:, wtri_t[0]], pos_t[:, wtri_t[1]], pos_t[:, wtri_t[2]]
+        c0, c1, c2 = (_rows_at(pos_t, wtri_t[k]) for k in range(3))
         e1, e2, e3 = c1 - c0, c2 - c0, c2 - c1
         direction = a * e1 + b * e2
-        length = np.sqrt((direction * direction).sum(axis=0))
+        length = np.sqrt(direction[0] * direction[0] + direction[1] * direction[1]
+                         + direction[2] * direction[2])
         direction = np.divide(direction, length, out=np.zeros_like(direction),
                               where=length > _TINY)
-        return direction, _edge_angles(e1, e2, e3) * keep
+        return direction, _posed_angles(e1, e2, e3) * keep
 
     def subset(self, vertices: Array) -> MikkSubset:
         """The index work for recomputing only ``vertices`` (render vertices, e.g. those a
@@ -173,21 +202,23 @@ class MikkTSpaceFrame:
         corners = self._corner_order[at]  # face * 3 + corner, grouped by vertex
         faces, local = np.unique(corners // 3, return_inverse=True)
         has = counts > 0
-        return MikkSubset(vertices, np.flatnonzero(has), faces, local.reshape(-1),
-                          corners % 3, (ends - counts)[has])
+        local = local.reshape(-1)
+        return MikkSubset(vertices, np.flatnonzero(has), faces, local,
+                          3 * local + corners % 3, (ends - counts)[has],
+                          np.ascontiguousarray(self._wtri_t[:, faces]), self._a_row[faces],
+                          self._b_row[faces], self._keep[faces], self.side[vertices])
 
     def tangents_of(self, subset: MikkSubset, positions_welded: Array, normals: Array) -> Array:
         """``(len(subset.vertices), 4)`` tangents of the subset's vertices only (``normals``
         theirs, in the same order): the same values ``tangents`` gives them."""
-        faces = subset.faces
-        direction, weight = self._face_terms(positions_welded, self._wtri_t[:, faces],
-                                             self._a_row[faces], self._b_row[faces],
-                                             self._keep[faces])
-        per_corner = direction[:, subset.local_face] * weight[subset.local_face, subset.slot]
+        direction, weight = self._face_terms(positions_welded, subset.wtri_t, subset.a,
+                                             subset.b, subset.keep)
+        per_corner = _rows_at(direction, subset.local_face)
+        per_corner *= np.take(weight.ravel(), subset.flat_corner)
         summed = np.zeros((len(subset.vertices), 3))
         if len(subset.starts):
             summed[subset.with_corners] = np.add.reduceat(per_corner, subset.starts, axis=1).T
-        return orthonormal_frame(summed, normals, self.side[subset.vertices])
+        return orthonormal_frame(summed, normals, subset.side)
 
 
 @dataclass(frozen=True)
@@ -198,23 +229,38 @@ class MikkSubset:
     with_corners: Array  # which of them have corners (index into ``vertices``)
     faces: Array  # the triangles their corners belong to
     local_face: Array  # per corner (grouped by vertex): index into ``faces``
-    slot: Array  # per corner: which corner of its triangle (0, 1, 2)
+    flat_corner: Array  # per corner: 3 × its local face + which corner of it (0, 1, 2)
     starts: Array  # where each vertex with corners starts in the corner arrays
+    # what the frame reads of its faces and vertices, gathered once: (3, F') welded corners,
+    # UV factors, kept corners, each vertex's side
+    wtri_t: Array
+    a: Array
+    b: Array
+    keep: Array
+    side: Array
 
 
 def orthonormal_frame(summed: Array, normals: Array, handedness: Array) -> Array:
     """Gram–Schmidt ``T' = normalize(T − (N·T)N)`` with handedness ``w``; a tangent that is
-    missing or parallel to the normal falls back to a perpendicular with ``w = +1``."""
-    n = np.asarray(normals, dtype=np.float64)
-    n = n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), _TINY)
-    ortho = summed - np.einsum("ij,ij->i", n, summed)[:, None] * n
-    o_len = np.linalg.norm(ortho, axis=1)
-    usable = (o_len > TANGENT_KEEP * np.linalg.norm(summed, axis=1)) & (o_len > _TINY)
-    out = np.empty((len(n), 4))
-    out[:, :3] = ortho / np.where(usable, o_len, 1.0)[:, None]
+    missing or parallel to the normal falls back to a perpendicular with ``w = +1``.
+
+    In float64, on component rows (x, y, z each one contiguous array): it runs every posed
+    frame, and numpy's sums along a short last axis cost several times these flat passes."""
+    n = np.array(np.asarray(normals).T, dtype=np.float64)  # (3, V)
+    t = np.array(np.asarray(summed).T, dtype=np.float64)
+    length = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    n /= np.maximum(length, _TINY)
+    along = n[0] * t[0] + n[1] * t[1] + n[2] * t[2]
+    t_length = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    t -= along * n
+    o_len = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+    usable = (o_len > TANGENT_KEEP * t_length) & (o_len > _TINY)
+    t /= np.where(usable, o_len, 1.0)
+    out = np.empty((n.shape[1], 4))
+    out[:, :3] = t.T
     out[:, 3] = handedness
     if not usable.all():
-        out[~usable, :3] = perpendicular(n[~usable])
+        out[~usable, :3] = perpendicular(n[:, ~usable].T)
         out[~usable, 3] = 1.0
     return out
 
