@@ -215,7 +215,7 @@ class MikkTSpaceFrame:
                                              subset.b, subset.keep)
         per_corner = _rows_at(direction, subset.local_face)
         per_corner *= np.take(weight.ravel(), subset.flat_corner)
-        summed = np.zeros((len(subset.vertices), 3))
+        summed = np.zeros((len(subset.vertices), 3), np.float32)
         if len(subset.starts):
             summed[subset.with_corners] = np.add.reduceat(per_corner, subset.starts, axis=1).T
         return orthonormal_frame(summed, normals, subset.side)
@@ -244,10 +244,12 @@ def orthonormal_frame(summed: Array, normals: Array, handedness: Array) -> Array
     """Gram–Schmidt ``T' = normalize(T − (N·T)N)`` with handedness ``w``; a tangent that is
     missing or parallel to the normal falls back to a perpendicular with ``w = +1``.
 
-    In float64, on component rows (x, y, z each one contiguous array): it runs every posed
-    frame, and numpy's sums along a short last axis cost several times these flat passes."""
-    n = np.array(np.asarray(normals).T, dtype=np.float64)  # (3, V)
-    t = np.array(np.asarray(summed).T, dtype=np.float64)
+    On component rows (x, y, z each one contiguous array): it runs every posed frame, and
+    numpy's sums along a short last axis cost several times these flat passes. In float32 when
+    ``summed`` is (a frame's part, bound for the float32 vertex buffer), else in float64."""
+    dtype = np.float32 if np.asarray(summed).dtype == np.float32 else np.float64
+    n = np.array(np.asarray(normals).T, dtype=dtype)  # (3, V)
+    t = np.array(np.asarray(summed).T, dtype=dtype)
     length = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
     n /= np.maximum(length, _TINY)
     along = n[0] * t[0] + n[1] * t[1] + n[2] * t[2]
@@ -256,7 +258,7 @@ def orthonormal_frame(summed: Array, normals: Array, handedness: Array) -> Array
     o_len = np.sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
     usable = (o_len > TANGENT_KEEP * t_length) & (o_len > _TINY)
     t /= np.where(usable, o_len, 1.0)
-    out = np.empty((n.shape[1], 4))
+    out = np.empty((n.shape[1], 4), dtype)
     out[:, :3] = t.T
     out[:, 3] = handedness
     if not usable.all():
