@@ -397,3 +397,76 @@ def test_where_an_eye_overlaps_the_skin_in_uv_the_skin_is_baked(high):
     assert angles(baked.normals[left], expected[left]).max() < 0.5
     taken = bake_normal_map(low, high, SIZE, max_distance=0.1)
     assert angles(taken.normals[left], expected[left]).max() > 10.0
+
+
+# --------------------------------------------------------------------------------------------
+# UDIM heads: the face packed into an atlas, the sculpt in UDIM tiles
+# --------------------------------------------------------------------------------------------
+
+def two_tiles(n: int, height=None) -> FaceMesh:
+    """Two unit squares side by side, x ∈ [0, 1] on tile 1001 and x ∈ [1, 2] on tile 1002
+    (UV = (x, y)), each ``grid(n, height)`` of its own square (the same sculpt on each)."""
+    a = grid(n, height)
+    rest = np.r_[a.rest, a.rest + np.array([1.0, 0.0, 0.0])]
+    uvs = np.r_[a.uvs, a.uvs + np.array([1.0, 0.0])]
+    triangles = np.r_[a.triangles, a.triangles + n * n]
+    return FaceMesh(rest, triangles, uvs, np.arange(2 * n * n), source="sculpt.obj")
+
+
+def cell_normals(layout, tile: int, size: int) -> tuple[tuple[slice, slice], np.ndarray]:
+    """The texels well inside ``tile``'s cell of a ``size``² atlas, and the sculpt's analytic
+    normal at each (the tile's own square, as ``analytic_normals``)."""
+    x0, y0, x1, y1 = layout.pixel_box(tile, (size, size))
+    box = (slice(y0 + 2, y1 - 2), slice(x0 + 2, x1 - 2))
+    rows, cols = np.mgrid[box]
+    atlas = np.stack([(cols.ravel() + 0.5) / size, 1.0 - (rows.ravel() + 0.5) / size], 1)
+    local = layout.from_atlas(atlas, np.full(len(atlas), layout.index(tile))) - [tile - 1001, 0]
+    x, y = local[:, 0], local[:, 1]
+    hx = A * 2 * np.pi * K * np.cos(2 * np.pi * K * x) * np.cos(4 * np.pi * y)
+    hy = -A * 4 * np.pi * np.sin(2 * np.pi * K * x) * np.sin(4 * np.pi * y)
+    n = np.stack([-hx, -hy, np.ones_like(hx)], -1)
+    return box, (n / np.linalg.norm(n, axis=-1, keepdims=True)).reshape(*rows.shape, 3)
+
+
+@pytest.mark.core
+def test_a_udim_sculpt_bakes_into_the_face_s_atlas_cells():
+    """The face's two tiles were packed into one atlas when it was imported; the sculpt comes
+    in the same UDIM tiles. Its UVs go into the same cells, and every texel of both cells
+    finds it, with the sculpt's normals; a tile the face lacks is refused by name."""
+    from studio.core.files.errors import StudioError
+    from studio.core.mesh.uv_tiles import pack_mesh
+    from studio.core.wrinkles.bake import sculpt_for
+
+    low, tiles = pack_mesh(two_tiles(2))
+    high = two_tiles(241, sculpt)
+    with pytest.raises(MeshError, match="UV layout differs"):  # before: the UDIM UVs as they came
+        bake_normal_map(low, high, SIZE * 2, max_distance=0.1)
+    result = bake_normal_map(low, sculpt_for(high, tiles), SIZE * 2, max_distance=0.1)
+    assert result.hit_fraction > 0.999
+    for tile in (1001, 1002):
+        box, expected = cell_normals(tiles.layout, tile, SIZE * 2)
+        assert angles(result.normals[box], expected).max() < 0.5
+
+    stray = two_tiles(3)
+    stray.uvs[len(stray.uvs) // 2:] += [1.0, 0.0]  # the second square on tile 1003
+    with pytest.raises(StudioError, match=r"sculpt\.obj.*tile 1003, which the face does not "
+                                          r"\(its tiles: 1001, 1002\)"):
+        sculpt_for(stray, tiles)
+    assert sculpt_for(high, None) is high  # a face on one tile takes the sculpt as it is
+
+
+@pytest.mark.core
+def test_cli_bakes_a_udim_sculpt_into_a_udim_head(tmp_path, capsys):
+    from studio.cli import main
+    from studio.core.mesh.meshio import save_obj
+    from studio.core.project.assemble import project_from_files
+    from studio.core.project.writer import save_project
+
+    save_obj(tmp_path / "head.obj", two_tiles(2))
+    project = project_from_files(tmp_path / "head.obj")
+    assert project.uv_tiles is not None and project.uv_tiles.layout.tiles == (1001, 1002)
+    save_project(project, tmp_path / "head.wrinkle")
+    save_obj(tmp_path / "sculpt.obj", two_tiles(121, sculpt))
+    assert main(["bake", str(tmp_path / "head.wrinkle"), "--high", str(tmp_path / "sculpt.obj"),
+                 "--size", "128", "--png", str(tmp_path / "map.png")]) == 0
+    assert "100% of the face's texels found the high-polygon mesh" in capsys.readouterr().out

@@ -43,7 +43,12 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.project.reader import load_project
     from studio.core.project.view_settings import saved_view
     from studio.core.project.writer import save_project
-    from studio.core.wrinkles.bake import bake_normal_map, check_hits, default_max_distance
+    from studio.core.wrinkles.bake import (
+        bake_normal_map,
+        check_hits,
+        default_max_distance,
+        sculpt_for,
+    )
 
     if not args.png and not args.output:
         raise StudioError("say where the map goes: --png OUT.png and/or -o OUT.wrinkle")
@@ -62,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
                           f"{', '.join(textures.wrinkle_map_names)})", args.project)
     current = textures.wrinkle_maps[name]
     distance = default_max_distance(project.mesh) if args.distance is None else args.distance
-    result = bake_normal_map(project.mesh, load_mesh(args.high), args.size or current.shape[1],
+    high = sculpt_for(load_mesh(args.high), project.uv_tiles)
+    result = bake_normal_map(project.mesh, high, args.size or current.shape[1],
                              distance, bits=16 if current.dtype.itemsize == 2 else 8,
                              tangent_frame=saved_view(project.view).tangent_frame,
                              skin=project.skin_triangles())

@@ -180,21 +180,45 @@ def pack_mesh(mesh: FaceMesh, skin_vertices: Array | None = None
     A render vertex used by triangles of two tiles is split, one copy per tile. UVs outside
     u ∈ [0, 10) or with v < 0 are not UDIM and are refused, naming the file.
     """
-    tri_tile = triangle_tiles(mesh.uvs, mesh.triangles)
+    tri_tile = _udim_tiles(mesh)
     if (tri_tile == FIRST_TILE).all():
         return mesh, None
+    skin_tri = (np.ones(mesh.n_triangles, bool) if skin_vertices is None
+                else np.asarray(skin_vertices, bool)[mesh.welded_triangles].any(axis=1))
+    layout = plan_layout(tri_tile, set(tri_tile[skin_tri].tolist()))
+    return _into(mesh, tri_tile, layout)
+
+
+def into_layout(mesh: FaceMesh, layout: TileLayout) -> FaceMesh:
+    """Another mesh of the same head (a sculpt to bake from) with its UDIM UVs moved into a
+    project's atlas ``layout``, so that its UVs meet the face's; a tile the layout lacks is
+    refused, naming the file."""
+    tri_tile = _udim_tiles(mesh)
+    missing = sorted(set(tri_tile.tolist()) - set(layout.tiles))
+    if missing:
+        raise StudioError(f"the UVs use tile {', '.join(map(str, missing))}, which the face "
+                          f"does not (its tiles: {', '.join(map(str, layout.tiles))})",
+                          mesh.source or None)
+    return _into(mesh, tri_tile, layout)[0]
+
+
+def _udim_tiles(mesh: FaceMesh) -> Array:
+    """Each triangle's tile; UVs outside the UDIM range are refused, naming the file."""
     centroid = mesh.uvs[mesh.triangles].mean(axis=1)
     if (centroid[:, 0] < 0).any() or (centroid[:, 0] >= 10).any() or (centroid[:, 1] < 0).any():
         raise StudioError("the UVs lie outside the UDIM range (u from 0 to 10, v from 0): "
                           "the texture layout cannot be read", mesh.source or None)
+    return triangle_tiles(mesh.uvs, mesh.triangles)
+
+
+def _into(mesh: FaceMesh, tri_tile: Array, layout: TileLayout) -> tuple[FaceMesh, UvTiles]:
+    """The mesh with each triangle's UVs placed in its tile's cell of ``layout``; a render
+    vertex on triangles of two tiles split into a copy per tile."""
     corner_tile = np.repeat(tri_tile, 3)
     corner_vertex = mesh.triangles.ravel().astype(np.int64)
     keys, inverse = np.unique(np.stack([corner_vertex, corner_tile], axis=1), axis=0,
                               return_inverse=True)
     vertex, tile = keys[:, 0], keys[:, 1]
-    skin_tri = (np.ones(mesh.n_triangles, bool) if skin_vertices is None
-                else np.asarray(skin_vertices, bool)[mesh.welded_triangles].any(axis=1))
-    layout = plan_layout(tri_tile, set(tri_tile[skin_tri].tolist()))
     tile_index = np.searchsorted(np.asarray(layout.tiles), tile)
     uvs = layout.to_atlas(mesh.uvs[vertex], tile_index)
     packed = FaceMesh(mesh.rest, inverse.reshape(-1, 3), uvs, mesh.weld[vertex],

@@ -37,6 +37,7 @@ from studio.core.files.errors import Cancelled, MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache, vertex_normals
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME
+from studio.core.mesh.uv_tiles import UvTiles, into_layout
 from studio.core.wrinkles.mask_ops import rasterise_uv
 
 Array = np.ndarray
@@ -73,6 +74,13 @@ class BakeResult:
 
 
 Progress = Callable[[float], None]
+
+
+def sculpt_for(high: FaceMesh, tiles: UvTiles | None) -> FaceMesh:
+    """The sculpt as the face is laid out: a face whose UDIM tiles were packed into one atlas
+    (``Project.uv_tiles``) gets the sculpt's UDIM UVs packed into the same cells, so the two
+    layouts meet; a face on one tile takes the sculpt as it is."""
+    return high if tiles is None else into_layout(high, tiles.layout)
 
 
 def bake_normal_map(low: FaceMesh, high: FaceMesh, size: int, max_distance: float, *,

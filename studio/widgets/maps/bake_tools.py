@@ -25,12 +25,14 @@ from PySide6.QtWidgets import (
 from studio.core.files.errors import StudioError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.meshio import load_mesh
+from studio.core.mesh.uv_tiles import UvTiles
 from studio.core.wrinkles.bake import (
     DISTANCE_SHARE,
     BakeCancelled,
     BakeResult,
     bake_normal_map,
     default_max_distance,
+    sculpt_for,
 )
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.document import Document
@@ -112,11 +114,13 @@ class BakeWorker(QThread):
     stopped = Signal()  # cancelled
 
     def __init__(self, low: FaceMesh, path: Path, size: int, distance: float, bits: int,
-                 tangent_frame: str, skin: np.ndarray | None = None) -> None:
+                 tangent_frame: str, skin: np.ndarray | None = None,
+                 tiles: UvTiles | None = None) -> None:
         super().__init__()
         self.low, self.path, self.size, self.distance, self.bits = low, path, size, distance, bits
         self.tangent_frame = tangent_frame  # the frame the viewport reads the map in
         self.skin = skin  # per triangle: the skin's own the texels eyes overlap in UV
+        self.tiles = tiles  # the face's UDIM atlas: the sculpt's UVs are placed in it too
         self._cancel = threading.Event()
 
     def cancel(self) -> None:
@@ -124,7 +128,7 @@ class BakeWorker(QThread):
 
     def run(self) -> None:
         try:
-            high = load_mesh(self.path)
+            high = sculpt_for(load_mesh(self.path), self.tiles)
             result = bake_normal_map(
                 self.low, high, self.size, self.distance, bits=self.bits,
                 progress=lambda done: self.progressed.emit(round(done * 1000)),
@@ -180,7 +184,8 @@ class BakeTools(QObject):
         key = key or WRINKLED + project.textures.wrinkle_map_names[0]
         bits = 16 if get_map(project.textures, key).dtype == np.uint16 else 8
         worker = BakeWorker(project.mesh, Path(path), size, distance, bits,
-                            self.doc.view.tangent_frame, project.skin_triangles())
+                            self.doc.view.tangent_frame, project.skin_triangles(),
+                            project.uv_tiles)
         progress = QProgressDialog(f"Baking {Path(path).name} into a {size} × {size} wrinkled "
                                    "normal map…", "Cancel", 0, 1000, self.window)
         progress.setWindowTitle("Bake Wrinkled Normal Map")
