@@ -260,3 +260,50 @@ def test_technique_2_weights_from_gpu_positions_are_numpy_s(gl_context, sheet, s
         programs.release()
     # float32 positions and the GPU's acos: within a quarter of one 8-bit level of the heat view
     np.testing.assert_allclose(got, expected, atol=1e-3)
+
+
+def fallback_and_right_angle_mesh() -> FaceMesh:
+    """Two kinds of vertex the random sheet hardly has. Lone triangles whose UVs are one
+    point, so every corner's tangent falls back to a perpendicular of its normal, facing every
+    way (the smallest normal component x, y or z, and ties). And a flat grid on exact
+    coordinates, so corners of exactly 90° (a dot product of exactly 0), with its UVs
+    perturbed so each triangle's +u direction differs and the corner angles weigh."""
+    rng = np.random.default_rng(11)
+    normals = [(0, 0, 1), (1, 0, 0), (0, 1, 0), (1, 1, 1), (0.2, 0.9, 0.4), (0.9, 0.2, 0.4),
+               (0.4, 0.2, 0.9), (-0.3, 0.3, 0.9), (0.5, -0.5, 0.2), (0, 0.6, -0.8)]
+    rest, uvs, triangles = [], [], []
+    for k, n in enumerate(normals):
+        n = np.asarray(n, float) / np.linalg.norm(n)
+        u = np.cross(n, [0.3, 0.5, 0.7])
+        u /= np.linalg.norm(u)
+        v = np.cross(n, u)  # (u, v, n) right-handed: the triangle faces n
+        centre = np.array([3.0 * k, 5.0, 0.0])
+        rest += [centre, centre + u, centre + v]
+        uvs += [(0.2, 0.2)] * 3
+        triangles.append([3 * k, 3 * k + 1, 3 * k + 2])
+    first = len(rest)
+    x, y = np.meshgrid(np.arange(5.0), np.arange(4.0))
+    idx = first + np.arange(x.size).reshape(x.shape)
+    rest += list(np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)]))
+    uvs += list(np.column_stack([x.ravel(), y.ravel()]) / 5.0
+                + rng.uniform(-0.05, 0.05, (x.size, 2)))
+    for r in range(3):
+        for c in range(4):
+            a, b, d, e = idx[r, c], idx[r, c + 1], idx[r + 1, c], idx[r + 1, c + 1]
+            triangles += [[a, b, e], [a, e, d]]  # right angles at b and at d
+    rest = np.asarray(rest, np.float32)
+    return FaceMesh(rest, np.asarray(triangles), np.asarray(uvs, np.float32),
+                    np.arange(len(rest)))
+
+
+@pytest.mark.parametrize("frame", TANGENT_FRAMES)
+def test_fallback_tangents_and_right_angled_corners_are_numpy_s(gl_context, frame):
+    mesh = fallback_and_right_angle_mesh()
+    pose = KeyPose("shift", mesh.rest + np.float32([0.0, 0.0, 0.01]))
+    got = gpu_frame(gl_context, mesh, [pose], np.zeros(1), frame)
+    expected = DeformCache(mesh, frame).update(mesh.rest)
+    lone = np.arange(30)  # the lone triangles' vertices: every tangent a fallback
+    assert (expected[lone, 9] == 1).all()
+    assert np.abs(np.einsum("ij,ij->i", expected[lone, 3:6], expected[lone, 6:9])).max() < 1e-6
+    np.testing.assert_allclose(got[:, 3:9], expected[:, 3:9], atol=2e-5)
+    np.testing.assert_array_equal(got[:, 9], expected[:, 9])
