@@ -6,7 +6,8 @@ scripts/viewport_fps.py [project.wrinkle]`` (default: the bundled sample head). 
 sized so that the viewport is ``--size`` device pixels, the middle button is pressed on the
 viewport and the mouse moves a few pixels every ``--interval`` ms for ``--seconds``, as a hand
 does; the frames the viewport finished in that time over the time give the rate. Then the button
-is released and the full-size frame that follows is timed too. Settings are kept in a throwaway
+is released and the full-size frame that follows is timed too. ``--play`` plays the timeline
+instead and says how many of its frames were drawn and skipped. Settings are kept in a throwaway
 folder, never the user's.
 """
 
@@ -29,6 +30,9 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--samples", type=int, default=4, help="anti-aliasing (0 off, 2, 4, 8)")
     p.add_argument("--full", action="store_true",
                    help="draw every frame at full size (turn off the reduced drawing)")
+    p.add_argument("--play", action="store_true",
+                   help="play the timeline for --seconds instead of orbiting: frames drawn a "
+                        "second, and the animation's frames shown and skipped")
     return p.parse_args(argv)
 
 
@@ -84,6 +88,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{vp.gl_description}; viewport {vp.pixel_size()[0]}x{vp.pixel_size()[1]}, "
           f"{args.samples} samples, {'full size' if args.full else 'reduced while moving'}")
 
+    if args.play:
+        return play(app, window, args.seconds, settle)
     centre = QPoint(vp.width() // 2, vp.height() // 2)
     QTest.mousePress(vp, Qt.MouseButton.MiddleButton, Qt.KeyboardModifier.NoModifier, centre)
     step = [0]
@@ -112,6 +118,26 @@ def main(argv: list[str] | None = None) -> int:
     wait_for_frame()
     print(f"after release: a frame of {getattr(vp, 'last_draw_size', '?')} in "
           f"{(time.perf_counter() - start) * 1000:.0f} ms")
+    window.doc.undo_stack.setClean()
+    window.close()
+    return 0
+
+
+def play(app, window, seconds: float, settle) -> int:
+    """Play from the start for ``seconds``: the viewport's frames a second, and how many of
+    the animation's frames were shown and skipped to keep real time (Player)."""
+    vp, player = window.viewport, window.timeline_panel.player
+    fps = window.doc.project.timeline.fps
+    first = vp.frames_rendered
+    start = time.perf_counter()
+    player.play()
+    settle(round(seconds * 1000))
+    player.stop()
+    elapsed = time.perf_counter() - start
+    frames = vp.frames_rendered - first
+    print(f"playing at {fps:g} fps: {frames} frames drawn in {elapsed:.2f} s = "
+          f"{frames / elapsed:.1f} a second; animation frames shown {player.frames_shown}, "
+          f"skipped {player.frames_dropped}")
     window.doc.undo_stack.setClean()
     window.close()
     return 0
