@@ -29,6 +29,15 @@ pytestmark = pytest.mark.core
         # the ICT head's noseSneer_L and _R compress here (face coordinates measured there)
         (0.26, -0.05, "left side of the nose"),
         (-0.33, -0.05, "right side of the nose"),
+        # where the ICT head's poses compress (its face coordinates): a blink, a squint, a
+        # smile, a frown, a pucker, a lower lip pulled down, an inner brow raise
+        (0.45, 0.28, "left upper eyelid"),
+        (0.47, 0.19, "left lower eyelid"),
+        (-0.41, -0.30, "right nasolabial fold"),
+        (0.34, -0.47, "left mouth corner"),
+        (0.0, -0.34, "upper lip"),
+        (0.13, -0.66, "lower lip"),
+        (0.29, 0.73, "forehead"),
     ],
 )
 def test_a_point_is_named_after_its_nearest_anchor(x: float, y: float, name: str) -> None:
@@ -38,12 +47,13 @@ def test_a_point_is_named_after_its_nearest_anchor(x: float, y: float, name: str
 def test_every_sided_anchor_has_its_mirror_image() -> None:
     names, points = _anchors()
     assert names == region_names()
-    assert len(names) == len(set(names)) == 5 + 2 * 8
-    assert points.shape == (21, 2) and points.dtype.kind == "f"
+    assert len(names) == len(set(names)) == 6 + 2 * 9
+    assert points.shape == (24, 2) and points.dtype.kind == "f"
     for i, name in enumerate(names):
         if name.startswith("left "):
             j = names.index("right " + name.removeprefix("left "))
             assert points[j].tolist() == [-points[i][0], points[i][1]]
             assert points[i][0] > 0
-    assert names[:5] == ["forehead", "between the brows", "nose", "upper lip", "chin"]
-    assert points[:5, 0].tolist() == [0.0] * 5
+    assert names[:6] == ["forehead", "between the brows", "nose", "upper lip", "chin",
+                         "lower lip"]
+    assert points[:6, 0].tolist() == [0.0] * 6

@@ -52,9 +52,10 @@ def test_region_names_list_every_name_a_point_can_get():
     """The list holds the central regions and both sides of each sided one, once each, and every
     name ``region_name`` gives is in it."""
     names = region_names()
-    assert len(names) == len(set(names)) == 5 + 2 * 8
-    for name in ("forehead", "between the brows", "nose", "upper lip", "chin",
-                 "left brow", "right brow", "left nasolabial fold", "right jaw"):
+    assert len(names) == len(set(names)) == 6 + 2 * 9
+    for name in ("forehead", "between the brows", "nose", "upper lip", "chin", "lower lip",
+                 "left brow", "right brow", "left nasolabial fold", "right jaw",
+                 "left upper eyelid", "right upper eyelid"):
         assert name in names
     grid = np.linspace(-1.2, 1.2, 13)
     assert {region_name(float(x), float(y)) for x in grid for y in grid} <= set(names)

@@ -122,8 +122,11 @@ def test_the_face_box_ends_at_the_chin_and_names_each_pose_after_its_place(subse
     named = {"browInnerUp_L": ("forehead", "left brow"), "eyeSquint_L": ("left lower eyelid",),
              "noseSneer_L": ("left side of the nose",),
              "mouthSmile_L": ("left nasolabial fold", "left cheek"),
-             "mouthStretch_L": ("left mouth corner",), "jawOpen": ("chin",)}
-    few = [*named, "browDown_L", "mouthPucker", "cheekSquint_L", "mouthFrown_L"]  # a rig of ten
+             "mouthStretch_L": ("left mouth corner",), "jawOpen": ("chin",),
+             "eyeBlink_L": ("left upper eyelid", "left lower eyelid"),  # shut on the lower
+             "mouthFrown_L": ("left mouth corner",),
+             "mouthShrugLower": ("lower lip", "chin")}
+    few = [*named, "browDown_L"]  # a rig of ten
     project = load_ict_head(poses=few if subset else None)
     frame = face_frame(project)
     marks = frame.to_face(project.mesh.rest[landmark_vertices()].astype(np.float64))

@@ -13,23 +13,27 @@ import numpy as np
 Array = np.ndarray
 
 _SIDED = {  # name: (|x|, y) on the character's left; mirrored for the right
-    "brow": (0.45, 0.42),
-    "eye corner": (0.72, 0.22),
-    "lower eyelid": (0.45, 0.05),
+    # placed where the ICT-FaceKit scan's landmarks fall in its face box (which ends at the
+    # chin): brows, lids, eye corner, mouth corner and lips
+    "brow": (0.5, 0.5),
+    "upper eyelid": (0.47, 0.32),  # a blink, a wide eye, the eyes looking about
+    "eye corner": (0.68, 0.26),
+    "lower eyelid": (0.45, 0.15),
     # the nasal side, beside the bridge and the wing: where a sneer (noseSneer) bunches the
     # skin; without it that compression was named after the lower eyelid
     "side of the nose": (0.2, -0.05),
     "cheek": (0.62, -0.3),
-    "nasolabial fold": (0.33, -0.42),
-    "mouth corner": (0.38, -0.62),
+    "nasolabial fold": (0.36, -0.27),  # from the nose's wing to beside the mouth's corner
+    "mouth corner": (0.38, -0.47),  # a frown, a dimple, a press, a stretch
     "jaw": (0.75, -0.75),
 }
 _CENTRAL = {
     "forehead": (0.0, 0.72),
-    "between the brows": (0.0, 0.38),
+    "between the brows": (0.0, 0.4),
     "nose": (0.0, -0.1),
-    "upper lip": (0.0, -0.5),
-    "chin": (0.0, -0.9),
+    "upper lip": (0.0, -0.3),
+    "chin": (0.0, -0.85),
+    "lower lip": (0.0, -0.52),
 }
 
 
