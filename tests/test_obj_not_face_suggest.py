@@ -62,6 +62,9 @@ def test_shells_by_themselves_and_rigid_parts_once_a_pose_moves_them(files) -> N
     assert suggest_obj_parts(neutral, "material") == {"mat_a": "small closed shell"}
     assert suggest_obj_parts(neutral, "material", {"open": pose}) == {
         "mat_a": "small closed shell", "mat_b": "moved rigidly"}
+    # many poses: a spread of them is read (a real rig's 53 would hold up the dialog)
+    many = {f"pose {k}": pose for k in range(30)}
+    assert suggest_obj_parts(neutral, "material", many)["mat_b"] == "moved rigidly"
     # a pose file that cannot be read is Create's to report: the suggestion goes on without it
     assert suggest_obj_parts(neutral, "material", {"x": neutral.parent / "none.obj"}) == {
         "mat_a": "small closed shell"}

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
+    QApplication,
     QButtonGroup,
     QCheckBox,
     QComboBox,
@@ -184,10 +185,13 @@ class PartsBox(QGroupBox):
         if self.found:
             return dict.fromkeys(self.found[1], "found with the face")
         if self.suggest is not None:
+            QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)  # a real head: a second
             try:
                 return self.suggest(self.kind.currentData())
             except StudioError:
                 pass  # the file is reported at Create; names still help
+            finally:
+                QApplication.restoreOverrideCursor()
         return dict.fromkeys(suggest_not_face(g.name for g in shown), "name")
 
     def resuggest(self) -> None:

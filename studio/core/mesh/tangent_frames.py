@@ -210,7 +210,8 @@ class MikkTSpaceFrame:
 
     def tangents_of(self, subset: MikkSubset, positions_welded: Array, normals: Array) -> Array:
         """``(len(subset.vertices), 4)`` tangents of the subset's vertices only (``normals``
-        theirs, in the same order): the same values ``tangents`` gives them."""
+        theirs, in the same order): the values ``tangents`` gives them, orthogonalised in
+        float32 (the vertex buffer's precision) where ``tangents`` uses float64."""
         direction, weight = self._face_terms(positions_welded, subset.wtri_t, subset.a,
                                              subset.b, subset.keep)
         per_corner = _rows_at(direction, subset.local_face)

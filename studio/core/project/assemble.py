@@ -28,6 +28,9 @@ from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, p
 FLAT_NORMAL = (128, 128, 255)
 
 
+RIGID_SAMPLE = 8  # key-pose files read to suggest parts the poses move rigidly
+
+
 def suggest_not_face(names: Iterable[str]) -> list[str]:
     """The part names that look like eyes, teeth or tongue: a starting choice for the user."""
     return suggest_names(names)
@@ -37,12 +40,18 @@ def suggest_obj_parts(mesh: str | Path, kind: str,
                       poses: Mapping[str, str | Path] | None = None) -> dict[str, str]:
     """An OBJ's parts of ``kind`` (object, group or material) that look not face, each with
     why (``face_parts.suggest_parts``): by name, as a small closed shell, or — with key-pose
-    files — moved rigidly by every pose that moves it. A pose file that cannot be read is
-    left out here (Create reports it). Never every part: the largest stays face."""
+    files — moved rigidly by every pose that moves it (up to ``RIGID_SAMPLE`` of them, spread
+    over the list: a suggestion, made while the user picks files, not a proof). A pose file
+    that cannot be read is left out here (Create reports it). Never every part: the largest
+    stays face."""
     face = load_mesh(mesh)
     names = [g.name for g in obj_groups(mesh) if g.kind == kind]
+    paths = list((poses or {}).values())
+    if len(paths) > RIGID_SAMPLE:
+        paths = [paths[i] for i in np.linspace(0, len(paths) - 1, RIGID_SAMPLE).round()
+                 .astype(int)]
     shapes = []
-    for path in (poses or {}).values():
+    for path in paths:
         try:
             shapes.append(load_pose(path, face).positions)
         except MeshError:
