@@ -149,6 +149,11 @@ def _stl_not_ascii(folder: Path) -> None:
     (folder / "bad.stl").write_bytes(b"solid face\n\xff\xfe\x93 facet normal 0 0 1\n")
 
 
+def _new_mesh(name: str, mesh: str, needle: str, make: Callable[[Path], None]) -> Case:
+    """``new --mesh MESH -o out.wrinkle`` on a bad mesh file: refused, and no project made."""
+    return Case(name, ["new", "--mesh", mesh, "-o", "out.wrinkle"], needle, make, "out.wrinkle")
+
+
 def _text(name: str, text: str) -> Callable[[Path], None]:
     return lambda folder: (folder / name).write_text(text)
 
@@ -328,45 +333,50 @@ CASES = [
     Case("project member escaping the archive", ["export", "bad.wrinkle", "--gltf", "out.glb"],
          "unsafe", lambda f: rewrite_project(f / "p.wrinkle", f / "bad.wrinkle",
                                              members={"../evil.txt": b"x"}), "out.glb"),
-    Case("OBJ face index out of range", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
-         "bad.obj", lambda f: (f / "bad.obj").write_text("v 0 0 0\nvt 0 0\nf 1/1 2/1 9/1\n"),
-         "out.wrinkle"),
+    _new_mesh(
+        "OBJ face index out of range", "bad.obj",
+        "bad.obj", lambda f: (f / "bad.obj").write_text("v 0 0 0\nvt 0 0\nf 1/1 2/1 9/1\n")),
     # numbers beyond 32-bit floats: numpy warned as they were cast (issue #30)
-    Case("OBJ vertex of 1e39", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
-         "vertex 2 (line 2) is outside the range of 32-bit floats",
-         _text("bad.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"),
-         "out.wrinkle"),
-    Case("OBJ texture coordinate of -1e39", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
-         "texture coordinate 2 (line 5) is outside the range of 32-bit floats",
-         _text("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0 -1e39\nf 1/1 2/2 3/1\n"),
-         "out.wrinkle"),
+    _new_mesh(
+        "OBJ vertex of 1e39", "bad.obj",
+        "vertex 2 (line 2) is outside the range of 32-bit floats",
+        _text("bad.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n")),
+    _new_mesh(
+        "OBJ texture coordinate of -1e39", "bad.obj",
+        "texture coordinate 2 (line 5) is outside the range of 32-bit floats",
+        _text("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0 -1e39\nf 1/1 2/2 3/1\n")),
     Case("OBJ key pose of 1e39", ["new", "--mesh", "face.obj", "--pose", "smile=pose.obj", "-o",
                                   "out.wrinkle"],
          "pose.obj: vertex 2 (line 3) is outside the range of 32-bit floats",
          _pose_beyond_float32, "out.wrinkle"),
-    Case("PLY double vertex of 1e39", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
-         "vertex 2 is outside the range of 32-bit floats",
-         _ply("double", ["0 0 0 0 0", "1e39 0 0 1 0", "0 1 0 0 1"]), "out.wrinkle"),
-    Case("PLY double UV of 1e39", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
-         "the texture coordinate of vertex 3 is outside the range of 32-bit floats",
-         _ply("double", ["0 0 0 0 0", "1 0 0 1 0", "0 1 0 0 1e39"]), "out.wrinkle"),
-    Case("PLY float vertex of 1e39", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
-         "vertex 2 has a non-finite coordinate",
-         _ply("float", ["0 0 0 0 0", "1e39 0 0 1 0", "0 1 0 0 1"]), "out.wrinkle"),
-    Case("PLY float UV of NaN", ["new", "--mesh", "bad.ply", "-o", "out.wrinkle"],
-         "vertex 2 has a non-finite texture coordinate",
-         _ply("float", ["0 0 0 0 0", "1 0 0 nan 0", "0 1 0 0 1"]), "out.wrinkle"),
+    _new_mesh(
+        "PLY double vertex of 1e39", "bad.ply",
+        "vertex 2 is outside the range of 32-bit floats",
+        _ply("double", ["0 0 0 0 0", "1e39 0 0 1 0", "0 1 0 0 1"])),
+    _new_mesh(
+        "PLY double UV of 1e39", "bad.ply",
+        "the texture coordinate of vertex 3 is outside the range of 32-bit floats",
+        _ply("double", ["0 0 0 0 0", "1 0 0 1 0", "0 1 0 0 1e39"])),
+    _new_mesh(
+        "PLY float vertex of 1e39", "bad.ply",
+        "vertex 2 has a non-finite coordinate",
+        _ply("float", ["0 0 0 0 0", "1e39 0 0 1 0", "0 1 0 0 1"])),
+    _new_mesh(
+        "PLY float UV of NaN", "bad.ply",
+        "vertex 2 has a non-finite texture coordinate",
+        _ply("float", ["0 0 0 0 0", "1 0 0 nan 0", "0 1 0 0 1"])),
     # 32-bit floats, but past what 32-bit geometry can square: numpy warned of an overflow in
     # the normals (issue #30)
-    Case("OBJ vertex of 1e10", ["new", "--mesh", "bad.obj", "-o", "out.wrinkle"],
-         "the mesh has a coordinate of 1e+10 at vertex 1: the studio takes coordinates up to 1e+09",
-         _text("bad.obj", "v 0 0 0\nv 1e10 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"),
-         "out.wrinkle"),
+    _new_mesh(
+        "OBJ vertex of 1e10", "bad.obj",
+        "the mesh has a coordinate of 1e+10 at vertex 1: the studio takes coordinates up to 1e+09",
+        _text("bad.obj", "v 0 0 0\nv 1e10 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n")),
     Case("project positions of 1e30", ["export", "bad.wrinkle", "--gltf", "out.glb"],
          "the studio takes coordinates up to 1e+09", _rest_scaled(1e30), "out.glb"),
-    Case("OFF vertex of 1e39", ["new", "--mesh", "bad.off", "-o", "out.wrinkle"],
-         "vertex 2 is outside the range of 32-bit floats",
-         _text("bad.off", "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n"), "out.wrinkle"),
+    _new_mesh(
+        "OFF vertex of 1e39", "bad.off",
+        "vertex 2 is outside the range of 32-bit floats",
+        _text("bad.off", "OFF\n3 1 0\n0 0 0\n1e39 0 0\n0 1 0\n3 0 1 2\n")),
 ]
 
 
