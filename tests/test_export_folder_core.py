@@ -227,14 +227,16 @@ EXPECTED_SHEET = {
                 "pose": "smile",
                 "cone_angle_deg": 15.0,
                 "wrinkle_map": 1,
-                "attributes": ["_WRINKLE_DIR_0", "_WRINKLE_LEN_0"],
+                "attributes": ["_WRINKLE_DIR_0", "_WRINKLE_LEN_CONE_0"],
+                "painted_cones": False,
             },
             {
                 "name": "cheek",
                 "pose": "smile",
                 "cone_angle_deg": 30.0,
                 "wrinkle_map": 0,
-                "attributes": ["_WRINKLE_DIR_1", "_WRINKLE_LEN_1", "_WRINKLE_CONE_1"],
+                "attributes": ["_WRINKLE_DIR_1", "_WRINKLE_LEN_CONE_1"],
+                "painted_cones": True,
             },
         ],
     },
@@ -242,7 +244,7 @@ EXPECTED_SHEET = {
 
 
 def test_the_link_sheet_names_every_file_and_setting(udim_export: tuple[Path, list[Path]]) -> None:
-    """wrinkles.json, key by key; painted cone angles add a third attribute to a WDV area."""
+    """wrinkles.json, key by key; a WDV area says whether its cone angles are painted."""
     folder, _ = udim_export
     sheet = json.loads((folder / "wrinkles.json").read_text(encoding="utf-8"))
     assert list(sheet) == list(EXPECTED_SHEET)

@@ -81,7 +81,7 @@ def test_the_glb_is_valid_for_other_readers(small, tmp_path):
     doc = json.loads(path.read_bytes()[20:20 + struct.unpack_from("<I", path.read_bytes(),
                                                                   12)[0]])
     attrs = doc["meshes"][0]["primitives"][0]["attributes"]
-    assert {"_WRINKLE_DIR_0", "_WRINKLE_LEN_0", "POSITION", "TEXCOORD_0"} <= set(attrs)
+    assert {"_WRINKLE_DIR_0", "_WRINKLE_LEN_CONE_0", "POSITION", "TEXCOORD_0"} <= set(attrs)
     assert doc["meshes"][0]["extras"]["targetNames"] == [p.name for p in small.poses]
 
 

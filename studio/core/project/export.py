@@ -15,7 +15,7 @@ import numpy as np
 from studio.core.files.atomic_write import write_atomic
 from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
-from studio.core.project.gltf import save_gltf
+from studio.core.project.gltf import save_gltf, wdv_attributes
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import curves_to_dict
 from studio.paths import shader_dir
@@ -125,8 +125,8 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
                 "scale_free": project.wdv.scale_free,
                 "areas": [{"name": a.name, "pose": a.pose, "cone_angle_deg": a.cone_angle_deg,
                            "wrinkle_map": textures.map_index(a.wrinkle_map),
-                           "attributes": [f"_WRINKLE_DIR_{n}", f"_WRINKLE_LEN_{n}"]
-                           + ([f"_WRINKLE_CONE_{n}"] if a.cone_angles_deg is not None else [])}
+                           "attributes": list(wdv_attributes(n)),
+                           "painted_cones": a.cone_angles_deg is not None}
                           for n, a in enumerate(project.wdv.areas)]},
     }
     path = folder / "wrinkles.json"

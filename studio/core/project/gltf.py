@@ -8,13 +8,15 @@ neutral normal maps; without the studio's extras, a weights animation becomes th
 tangent frame (so viewers read the normal maps as the studio does), one morph target per key pose
 (with its change of normal and tangent), the textures, every wrinkled map and mask also as a
 KHR_materials_variants material (masks unlit; viewers list them, the Khronos validator counts
-them used), the timeline as a morph-weight animation, and each technique-2 area as custom vertex
-attributes ``_WRINKLE_DIR_<n>`` (VEC3) and ``_WRINKLE_LEN_<n>`` (SCALAR), plus
-``_WRINKLE_CONE_<n>`` (painted cone angles, degrees) where painted and ``_NOT_FACE`` (1 on
-vertices never wrinkled) where marked. Everything else the studio authored (masks as 16-bit PNG
+them used), the timeline as a morph-weight animation, and the studio's per-vertex data as custom
+vertex attributes, every one a float VEC3 (see :func:`vertex_attributes`): ``_WRINKLE_DIR_<n>``
+(each technique-2 area's directions), ``_WRINKLE_LEN_CONE_<n>`` (its lengths, painted cone angles
+and whether they are painted) and ``_WELD_NOTFACE_TILE`` (the welded vertex number, 1 on vertices
+never wrinkled, the UDIM tile). Everything else the studio authored (masks as 16-bit PNG
 images, further wrinkled maps, which map each area reveals, links, cone angles, the timeline, the
 tangent frame) rides in ``extras.wrinkleStudio``, so a file exported here
-imports back with nothing lost.
+imports back with nothing lost. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
+``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``) still open.
 """
 
 from __future__ import annotations
@@ -50,8 +52,17 @@ from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
 EXTRAS_KEY = "wrinkleStudio"
-__all__ = ["BIN_CHUNK", "JSON_CHUNK", "_Gltf", "gltf_parts", "load_gltf", "load_weight_animation",
-           "save_gltf"]
+# The welded vertex number, 1 on vertices never wrinkled, the UDIM tile: one VEC3 per vertex
+VERTEX_DATA = "_WELD_NOTFACE_TILE"
+OLD_WELD = "_WELD"  # the older layout's scalar attributes (files written before the VEC3s)
+
+
+def wdv_attributes(n: int) -> tuple[str, str]:
+    """The two VEC3 attributes of technique-2 area ``n``: its directions, and (length, painted
+    cone angle in degrees — 0 the area's own —, 1 where the area's cones are painted)."""
+    return f"_WRINKLE_DIR_{n}", f"_WRINKLE_LEN_CONE_{n}"
+__all__ = ["BIN_CHUNK", "JSON_CHUNK", "VERTEX_DATA", "_Gltf", "gltf_parts", "load_gltf",
+           "load_weight_animation", "save_gltf", "vertex_attributes", "wdv_attributes"]
 
 
 def _first_occurrence(weld: Array, n_welded: int) -> Array:
@@ -88,7 +99,7 @@ def load_gltf(path: str | Path, keep: Collection[str] | None = None,
 def _written_here(g: _Gltf) -> bool:
     """The studio's own export: its extras, or its welded numbering on a primitive."""
     return g.doc.get("extras", {}).get(EXTRAS_KEY) is not None or any(
-        isinstance(p, dict) and "_WELD" in p.get("attributes", {})
+        isinstance(p, dict) and {VERTEX_DATA, OLD_WELD} & set(p.get("attributes", {}))
         for m in _list(g, g.doc, "meshes") if isinstance(m, dict)
         for p in m.get("primitives", []))
 
@@ -137,8 +148,10 @@ def _load_own(g: _Gltf) -> Project:
         if len(positions) % 3:
             raise MeshError(f"{len(positions)} vertices without indices are not triangles", path)
         triangles = np.arange(len(positions)).reshape(-1, 3)
-    if "_WELD" in attrs:  # written by the studio: keep its welded numbering exactly
-        mesh = _mesh_with_weld(g, positions, triangles, uvs, g.accessor(attrs["_WELD"])[:, 0])
+    weld_attribute = next((a for a in (VERTEX_DATA, OLD_WELD) if a in attrs), None)
+    if weld_attribute:  # written by the studio: keep its welded numbering exactly
+        mesh = _mesh_with_weld(g, positions, triangles, uvs,
+                               g.accessor(attrs[weld_attribute])[:, 0])
     else:
         mesh = mesh_from_render_vertices(path, positions, triangles, uvs)
     first = _first_occurrence(mesh.weld, mesh.n_welded)
@@ -239,18 +252,17 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
         maps = {str(m["name"]): _rgb(g.image(m["image"]), tex.normal_wrinkled)
                 for m in extras["wrinkle_maps"]}
         project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
-    if "_NOT_FACE" in attrs:
-        project.not_face = g.accessor(attrs["_NOT_FACE"])[first].ravel() > 0.5
-    if "uv_tiles" in extras and "_UDIM_TILE" in attrs:
-        tiles = np.rint(g.accessor(attrs["_UDIM_TILE"]).ravel()).astype(np.int16)
-        project.uv_tiles = UvTiles(TileLayout.from_dict(extras["uv_tiles"]), tiles)
+    not_face, tiles = _vertex_data(g, attrs)
+    if not_face is not None:
+        project.not_face = not_face[first] > 0.5
+    if "uv_tiles" in extras and tiles is not None:
+        project.uv_tiles = UvTiles(TileLayout.from_dict(extras["uv_tiles"]),
+                                   np.rint(tiles).astype(np.int16))
     wdv = extras.get("wdv", {})
     wdv_areas = []
     for n, spec in enumerate(wdv.get("areas", [])):
         dirs = g.accessor(attrs[f"_WRINKLE_DIR_{n}"])[first]
-        lengths = g.accessor(attrs[f"_WRINKLE_LEN_{n}"])[first, 0]
-        cones = (g.accessor(attrs[f"_WRINKLE_CONE_{n}"])[first, 0]
-                 if f"_WRINKLE_CONE_{n}" in attrs else None)
+        lengths, cones = _wdv_sizes(g, attrs, n, first)
         wdv_areas.append(WdvArea(spec["name"], spec["pose"], dirs, lengths,
                                  tuple(spec.get("colour", (0, 170, 255))),
                                  float(spec.get("cone_angle_deg", 20.0)),
@@ -262,6 +274,28 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
         project.timeline = Timeline.from_dict(extras["timeline"])
     if extras.get("tangent_frame") in TANGENT_FRAMES:  # the frame its maps were made for
         project.view["view"] = {"tangent_frame": extras["tangent_frame"]}
+
+
+def _vertex_data(g: _Gltf, attrs: dict) -> tuple[Array | None, Array | None]:
+    """(not-face values, UDIM tiles) per render vertex, each None where the file has none:
+    the VEC3's columns (a not-face column of zeros is no marking), or the older scalars."""
+    if VERTEX_DATA in attrs:
+        data = g.accessor(attrs[VERTEX_DATA])
+        return (data[:, 1] if (data[:, 1] > 0.5).any() else None), data[:, 2]
+    not_face, tiles = (g.accessor(attrs[name])[:, 0] if name in attrs else None
+                       for name in ("_NOT_FACE", "_UDIM_TILE"))
+    return not_face, tiles
+
+
+def _wdv_sizes(g: _Gltf, attrs: dict, n: int, first: Array) -> tuple[Array, Array | None]:
+    """Area ``n``'s lengths and painted cone angles (None: not painted) per welded vertex."""
+    sizes = wdv_attributes(n)[1]
+    if sizes in attrs:
+        data = g.accessor(attrs[sizes])[first]
+        return data[:, 0], (data[:, 1] if (data[:, 2] > 0.5).any() else None)
+    cones = f"_WRINKLE_CONE_{n}"
+    return (g.accessor(attrs[f"_WRINKLE_LEN_{n}"])[first, 0],
+            g.accessor(attrs[cones])[first, 0] if cones in attrs else None)
 
 
 # --- writing ---------------------------------------------------------------------------------
@@ -345,6 +379,35 @@ def _variants(textures: list[dict], wrinkle_maps: list[dict], masks: list[tuple[
     return materials, root, mappings
 
 
+def vertex_attributes(project: Project) -> dict[str, Array]:
+    """The studio's custom vertex attributes, name → (render vertices, 3) float32.
+
+    Why all VEC3: Blender's glTF importer (4.2 to 5.1, glTF-Blender-IO #2658) fails on a
+    primitive whose custom ``_`` attributes differ in type, so every scalar rides in a column of
+    a VEC3. The welded vertex number is exact in float32 below 2**24 vertices; the UDIM tile is
+    the atlas cell's, so the original UVs come back; a painted cone angle of 0 is the area's.
+    """
+    weld = project.mesh.weld
+    n = len(weld)
+    data = np.zeros((n, 3), np.float32)
+    data[:, 0] = weld
+    if project.not_face is not None:
+        data[:, 1] = project.not_face[weld]
+    if project.uv_tiles is not None:
+        data[:, 2] = project.uv_tiles.vertex_tile
+    out = {VERTEX_DATA: data}
+    for k, area in enumerate(project.wdv.areas):
+        directions, sizes = wdv_attributes(k)
+        size = np.zeros((n, 3), np.float32)
+        size[:, 0] = area.lengths[weld]
+        if area.cone_angles_deg is not None:
+            size[:, 1] = area.cone_angles_deg[weld]
+            size[:, 2] = 1.0
+        out[directions] = area.directions[weld]
+        out[sizes] = size
+    return out
+
+
 def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = None) -> None:
     """Write the project as a binary glTF (.glb).
 
@@ -359,19 +422,11 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
     attributes = {
         "POSITION": b.accessor(rest, "VEC3", bounds=True),
         "TEXCOORD_0": b.accessor(mesh.uvs * [1.0, -1.0] + [0.0, 1.0], "VEC2"),
-        "_WELD": b.accessor(weld, "SCALAR"),  # exact in float32 below 2**24 vertices
     }
     surface, surface_deltas = _surface_attributes(project, b, frame)
     attributes.update(surface)
-    for n, area in enumerate(project.wdv.areas):
-        attributes[f"_WRINKLE_DIR_{n}"] = b.accessor(area.directions[weld], "VEC3")
-        attributes[f"_WRINKLE_LEN_{n}"] = b.accessor(area.lengths[weld], "SCALAR")
-        if area.cone_angles_deg is not None:  # painted per-vertex cone angles, degrees
-            attributes[f"_WRINKLE_CONE_{n}"] = b.accessor(area.cone_angles_deg[weld], "SCALAR")
-    if project.not_face is not None:
-        attributes["_NOT_FACE"] = b.accessor(project.not_face[weld], "SCALAR")
-    if project.uv_tiles is not None:  # the atlas cell's UDIM tile: the original UVs come back
-        attributes["_UDIM_TILE"] = b.accessor(project.uv_tiles.vertex_tile, "SCALAR")
+    for name, data in vertex_attributes(project).items():
+        attributes[name] = b.accessor(data, "VEC3")
     targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True),
                 **deltas} for pose, deltas in zip(project.poses, surface_deltas, strict=True)]
     images: list[dict] = []

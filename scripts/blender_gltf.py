@@ -1,0 +1,116 @@
+"""Blender's glTF importer (and exporter) run over files, as a user of stock Blender would.
+
+    python scripts/blender_gltf.py IN.glb [IN2.glb ...]
+    python scripts/blender_gltf.py IN.glb --export OUT.glb [--extras]
+
+Needs the ``bpy`` package (the test extra). For each file it imports into an empty scene and
+prints one JSON line (after ``MARK``): whether the import worked (and Blender's error if not),
+each mesh object's vertices, shape keys (name, and every key's coordinates in glTF axes, Y up, when
+``--keys`` is given), UV layers (each loop's UV), materials with their image names, custom
+attributes and the scene's actions. With ``--export`` it then writes what it imported back out
+with Blender's default glTF options (``--extras``: with custom properties too).
+
+Why a script run in a subprocess: importing bpy loads all of Blender into the process (and a
+crash inside it must not take the test run with it), and each file wants a fresh scene.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import traceback
+
+# each report on a line of its own, after this: Blender prints its own lines (without a last
+# newline, at times) to the same stdout
+MARK = "BLENDER_GLTF_REPORT "
+
+
+def emit(report: dict) -> None:
+    print("\n" + MARK + json.dumps(report), flush=True)
+
+
+def _materials(obj) -> list[dict]:
+    out = []
+    for slot in obj.material_slots:
+        material = slot.material
+        if material is None:
+            continue
+        images = sorted(node.image.name for node in (material.node_tree.nodes
+                                                     if material.node_tree else [])
+                        if node.type == "TEX_IMAGE" and node.image is not None)
+        out.append({"name": material.name, "images": images})
+    return out
+
+
+def _mesh_report(obj, keys: bool) -> dict:
+    import numpy as np
+
+    mesh = obj.data
+    n = len(mesh.vertices)
+    report = {"name": obj.name, "mesh": mesh.name, "vertices": n,
+              "polygons": len(mesh.polygons), "materials": _materials(obj),
+              "attributes": sorted(a.name for a in mesh.attributes if a.name.startswith("_")),
+              "uv_layers": [layer.name for layer in mesh.uv_layers], "shape_keys": []}
+    if mesh.uv_layers:
+        loops = np.zeros(len(mesh.loops), np.int64)
+        mesh.loops.foreach_get("vertex_index", loops)
+        uvs = np.zeros(2 * len(mesh.loops), np.float32)
+        mesh.uv_layers[0].data.foreach_get("uv", uvs)
+        report["loop_vertices"] = loops.tolist() if keys else None
+        report["loop_uvs"] = uvs.reshape(-1, 2).tolist() if keys else None
+    if mesh.shape_keys is not None:
+        for block in mesh.shape_keys.key_blocks:
+            entry = {"name": block.name, "value": block.value}
+            if keys:
+                co = np.zeros(3 * n, np.float32)
+                block.data.foreach_get("co", co)
+                x, y, z = co.reshape(-1, 3).T  # Blender's Z up back to glTF's Y up
+                entry["co"] = np.stack([x, z, -y], axis=1).tolist()
+            report["shape_keys"].append(entry)
+    return report
+
+
+def import_file(path: str, keys: bool) -> dict:
+    import bpy
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    try:
+        result = bpy.ops.import_scene.gltf(filepath=path)
+    except Exception as exc:  # Blender's importer raises what it meets; report it, go on
+        return {"file": path, "ok": False, "error": f"{type(exc).__name__}: {exc}",
+                "trace": traceback.format_exc()[-2000:]}
+    meshes = [_mesh_report(o, keys) for o in bpy.context.scene.objects if o.type == "MESH"]
+    return {"file": path, "ok": "FINISHED" in result, "meshes": meshes,
+            "actions": [a.name for a in bpy.data.actions],
+            "images": sorted(i.name for i in bpy.data.images)}
+
+
+def export_file(path: str, extras: bool) -> None:
+    import bpy
+
+    bpy.ops.export_scene.gltf(filepath=path, export_format="GLB", export_extras=extras)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("files", nargs="+")
+    parser.add_argument("--keys", action="store_true", help="report coordinates and UVs")
+    parser.add_argument("--export", help="write the (one) imported file back out with "
+                                         "Blender's default glTF export options")
+    parser.add_argument("--extras", action="store_true",
+                        help="with --export: include custom properties (glTF extras)")
+    args = parser.parse_args()
+    import bpy
+
+    emit({"bpy": bpy.app.version_string})
+    for path in args.files:
+        report = import_file(path, args.keys)
+        emit(report)
+        if args.export and report["ok"]:
+            export_file(args.export, args.extras)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
