@@ -138,3 +138,50 @@ def test_no_animation_without_keys_or_poses(small, tmp_path):
     small.timeline.tracks.clear()
     save_gltf(small, tmp_path / "keyless.glb")
     assert "animations" not in _Gltf(tmp_path / "keyless.glb").doc
+
+
+def to_old_layout(doc: dict) -> None:
+    """The studio's VEC3 attributes as the scalars files held before them (``_WELD``,
+    ``_WRINKLE_LEN_<n>``, ``_WRINKLE_CONE_<n>`` where painted, ``_NOT_FACE`` where marked),
+    each a column of the VEC3's buffer view read with a stride: no byte of the binary moves."""
+    attrs = doc["meshes"][0]["primitives"][0]["attributes"]
+
+    def column(name: str, k: int) -> int:
+        acc = doc["accessors"][attrs[name]]
+        doc["bufferViews"][acc["bufferView"]]["byteStride"] = 12
+        doc["accessors"].append({**acc, "type": "SCALAR", "byteOffset": 4 * k})
+        return len(doc["accessors"]) - 1
+
+    data = "_WELD_NOTFACE_TILE"
+    attrs["_WELD"] = column(data, 0)
+    attrs["_NOT_FACE"] = column(data, 1)
+    del attrs[data]
+    for n in range(len(doc["extras"]["wrinkleStudio"]["wdv"]["areas"])):
+        sizes = f"_WRINKLE_LEN_CONE_{n}"
+        attrs[f"_WRINKLE_LEN_{n}"] = column(sizes, 0)
+        if n == 1:  # the painted one
+            attrs[f"_WRINKLE_CONE_{n}"] = column(sizes, 1)
+        del attrs[sizes]
+
+
+def test_a_file_of_the_older_scalar_layout_opens_as_it_was(small, tmp_path):
+    small.not_face = np.zeros(small.mesh.n_welded, bool)
+    small.not_face[::7] = True
+    small.wdv.areas[1].cone_angles_deg = np.linspace(0, 30, small.mesh.n_welded)
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+    new = load_gltf(path)
+    rewrite_glb(path, to_old_layout)
+    attrs = _Gltf(path).doc["meshes"][0]["primitives"][0]["attributes"]
+    assert "_WELD" in attrs and "_WELD_NOTFACE_TILE" not in attrs
+    old = load_gltf(path)
+    np.testing.assert_array_equal(old.mesh.weld, small.mesh.weld)
+    for back in (new, old):
+        np.testing.assert_array_equal(back.not_face, small.not_face)
+        for got, want in zip(back.wdv.areas, small.wdv.areas, strict=True):
+            np.testing.assert_array_equal(got.directions, want.directions)
+            np.testing.assert_array_equal(got.lengths, want.lengths)
+            if want.cone_angles_deg is None:
+                assert got.cone_angles_deg is None
+            else:
+                np.testing.assert_allclose(got.cone_angles_deg, want.cone_angles_deg)
