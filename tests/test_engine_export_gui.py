@@ -42,3 +42,21 @@ def test_a_layout_the_engine_cannot_hold_is_a_dialog(open_window, sample, qtbot,
     assert [kind for kind, _ in dialogs] == ["critical"]
     assert "the studio layout needs 18 samplers" in dialogs[0][1]
     assert not (tmp_path / "out").exists()
+
+
+def test_o3de_over_its_mask_limit_offers_to_merge_the_weakest(open_window, qtbot, tmp_path,
+                                                               dialogs):
+    from tests.test_engine_merge import seventeen_masks
+
+    window = open_window(seventeen_masks())
+    seen: list = []
+    fill_export_dialog(qtbot, seen, tmp_path / "o3de", [Qt.Key.Key_Up] * 2)  # studio → o3de
+    window.map_tools.export_folder()
+    o3de = next(e for e in seen[0] if e.startswith(LAYOUTS["o3de"].label))
+    assert "(too many wrinkle masks: 17 of 16; the 1 weakest can be merged)" in o3de
+    [(kind, text)] = dialogs
+    assert kind == "question" and "Merge the 1 weakest?" in text
+    assert "the mask of 'cheekPuff'" in text and "into 'mouthSmile_R'" in text
+    sheet = json.loads((tmp_path / "o3de" / SHEET).read_text())
+    assert sheet["layout"] == "o3de" and [m["mask"] for m in sheet["merged"]] == ["cheekPuff"]
+    assert "1 weakest masks merged" in window.statusBar().currentMessage()

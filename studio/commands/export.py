@@ -19,6 +19,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="with --folder: repack masks and wrinkle maps the way that engine's "
                         "shader samples them, with a JSON sheet of its names (see "
                         "docs/engines/)")
+    p.add_argument("--merge-weakest", action="store_true",
+                   help="with --layout: where the engine blends fewer masks than the project "
+                        "has (o3de: 16), merge the weakest into the ones they overlap most "
+                        "instead of refusing")
     p.set_defaults(run=run)
 
 
@@ -44,11 +48,14 @@ def run(args: argparse.Namespace) -> int:
     elif args.layout:
         try:
             plan, files = export_layout(project, args.folder, args.layout, args.bits,
-                                        inputs=[args.project])
+                                        inputs=[args.project], merge=args.merge_weakest)
         except LayoutError as exc:  # the project does not fit the engine: say which project
-            raise StudioError(exc.problem, args.project) from None
+            offer = " (export again with --merge-weakest)" if exc.mergeable else ""
+            raise StudioError(exc.problem + offer, args.project) from None
         print(f"wrote {len(files)} files to {args.folder} ({plan.layout.label}: "
               f"{plan.samplers} samplers)")
+        for merge in plan.merged:
+            print(f"merged: {merge.describe()}")
         for area, why in plan.unassigned:
             print(f"not exported: area '{area}': {why}")
     else:

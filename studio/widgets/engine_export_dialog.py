@@ -3,7 +3,9 @@
 Why a dialog of its own (not the animation export's): an engine layout is a set of textures and a
 sheet, not frames. Its layout list is built from core/engine_layouts.LAYOUTS, each entry showing
 what the layout costs the engine's material for this project (samplers) and whether the engine
-can hold it; a refused export or a failed write is a dialog naming the problem.
+can hold it; a refused export or a failed write is a dialog naming the problem. Where the engine
+blends fewer masks than the project has and merging fits it (O3DE's 16), the dialog offers to
+merge the weakest, naming each merge, instead of refusing.
 """
 
 from __future__ import annotations
@@ -35,8 +37,23 @@ def layout_entry(project, key: str) -> str:
     layout = plan.layout
     text = f"{layout.label} — {plan.samplers} samplers"
     if plan.used > layout.limit:
-        text += f" (too many {layout.limit_unit}: {plan.used} of {layout.limit})"
+        text += f" (too many {layout.limit_unit}: {plan.used} of {layout.limit}"
+        text += f"; the {plan.used - layout.limit} weakest can be merged)" if plan.mergeable \
+            else ")"
     return text
+
+
+def ask_to_merge(window, project, key: str) -> bool | None:
+    """Whether to merge the weakest masks: False when the layout fits as it is, None when the
+    user declines the merges the dialog lists."""
+    if not plan_export(project, key).mergeable:
+        return False
+    merged = plan_export(project, key, merge=True).merged
+    answer = QMessageBox.question(
+        window, "Export for a Game Engine",
+        f"The engine blends fewer masks than this face has. Merge the {len(merged)} weakest?\n"
+        + "\n".join(f"• {m.describe()}" for m in merged))
+    return True if answer == QMessageBox.StandardButton.Yes else None
 
 
 class EngineExportDialog(QDialog):
@@ -85,14 +102,18 @@ def open_engine_export(window) -> None:
         return
     key, folder = dialog.choice()
     doc = window.doc
+    merge = ask_to_merge(window, doc.project, key)
+    if merge is None:
+        return
     try:
         plan, files = export_layout(doc.project, folder, key, inputs=[doc.path],
-                                    tangent_frame=doc.view.tangent_frame)
+                                    tangent_frame=doc.view.tangent_frame, merge=merge)
     except StudioError as exc:
         window.show_error("Cannot export", exc)
         return
+    merged = f", {len(plan.merged)} weakest masks merged" if plan.merged else ""
     window.statusBar().showMessage(
-        f"Exported {len(files)} files to {folder} ({plan.samplers} samplers)", 8000)
+        f"Exported {len(files)} files to {folder} ({plan.samplers} samplers{merged})", 8000)
     if plan.unassigned:
         QMessageBox.information(window, "Export for a Game Engine",
                                 "These areas fit no region of the layout and were left out:\n"

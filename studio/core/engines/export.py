@@ -38,15 +38,17 @@ FLEX_TABLE = "flex_wrinkles.csv"  # Source: per-vertex wrinkle weight of each fl
 
 def export_layout(project: Project, folder: str | Path, key: str, bits: int = 16,
                   inputs: Iterable[str | Path | None] = (),
-                  tangent_frame: str | None = None) -> tuple[Plan, list[Path]]:
+                  tangent_frame: str | None = None,
+                  merge: bool = False) -> tuple[Plan, list[Path]]:
     """Write the layout ``key`` into ``folder``; (the plan, the files written). The model's
     tangents are in ``tangent_frame`` (default: the project's saved view's), the frame the
-    maps were made for.
+    maps were made for. ``merge``: fold the weakest masks into others where the engine holds
+    fewer than the project has and that can be done (``plan.merged`` says which).
 
     Raises a LayoutError (nothing written) when the engine cannot hold the project, and a
     StudioError when a destination is one of ``inputs`` or cannot be written.
     """
-    plan = plan_export(project, key)
+    plan = plan_export(project, key, merge)
     plan.check()
     folder = Path(folder)
     inputs = list(inputs)
@@ -210,5 +212,8 @@ def layout_sheet(project: Project, plan: Plan) -> dict:
         "flexes": [{"flex": f.name, "wrinkle_scale": 1.0, "wrinkle": "compress",
                     "areas": names(f.sources), "table": FLEX_TABLE} for f in plan.flexes],
         "unassigned": [{"area": a, "why": why} for a, why in plan.unassigned],
+        **({"merged": [{"mask": m.mask, "into": m.into, "strength": round(m.strength, 6),
+                        "overlap": round(m.overlap, 4), "note": m.describe()}
+                       for m in plan.merged]} if plan.merged else {}),
         **uv_tiles_note(project),
     }

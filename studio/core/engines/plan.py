@@ -15,6 +15,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import partial
 
+import numpy as np
+
 from studio.core.animation import pose_names
 from studio.core.engines.layouts import CHANNELS, LAYOUTS, MODEL_FILE, EngineLayout, Region
 from studio.core.files.errors import StudioError
@@ -23,7 +25,12 @@ from studio.core.wrinkles.influence import InfluenceArea
 
 
 class LayoutError(StudioError):
-    """A layout the engine cannot hold (more masks, samplers or flexes than it allows)."""
+    """A layout the engine cannot hold (more masks, samplers or flexes than it allows);
+    ``mergeable`` when merging the weakest masks would fit it (``plan_export(merge=True)``)."""
+
+    def __init__(self, message: str, mergeable: bool = False) -> None:
+        super().__init__(message)
+        self.mergeable = mergeable
 
 
 @dataclass
@@ -63,6 +70,21 @@ class Flex:
     sources: list[tuple[int, float]]
 
 
+@dataclass(frozen=True)
+class Merge:
+    """A mask folded into another to fit the engine: ``mask``'s channels now ride in
+    ``into``'s (added, clamped), so its areas show when ``into``'s pose moves, not its own."""
+
+    mask: str
+    into: str
+    strength: float  # the merged mask's influence: its channels' mean value, added
+    overlap: float  # the share of that influence lying where ``into``'s masks reach
+
+    def describe(self) -> str:
+        return (f"the mask of '{self.mask}' (the weakest, {self.strength:.4f}) merged into "
+                f"'{self.into}' ({self.overlap:.0%} of it where '{self.into}' reaches)")
+
+
 @dataclass
 class Plan:
     layout: EngineLayout
@@ -72,13 +94,22 @@ class Plan:
     used: int  # what the engine's limit counts (layout.limit_unit)
     samplers: int
     flexes: list[Flex] = field(default_factory=list)
+    merged: list[Merge] = field(default_factory=list)
+
+    @property
+    def mergeable(self) -> bool:
+        """Over the limit, but by masks that can be merged: a mask per pose (O3DE)."""
+        return self.used > self.layout.limit and self.layout.kind == "per_pose"
 
     def check(self) -> None:
         """Refuse a layout over the engine's documented limit (a one-line LayoutError)."""
         layout = self.layout
         if self.used > layout.limit:
+            offer = (f"; merging the {self.used - layout.limit} weakest masks into the ones "
+                     "they overlap most fits it" if self.mergeable else "")
             raise LayoutError(f"the {layout.key} layout needs {self.used} {layout.limit_unit}, "
-                              f"more than the {layout.limit} {layout.limit_why}")
+                              f"more than the {layout.limit} {layout.limit_why}{offer}",
+                              self.mergeable)
 
 
 def linked_poses(project: Project) -> dict[int, list[tuple[str, float]]]:
@@ -92,15 +123,59 @@ def linked_poses(project: Project) -> dict[int, list[tuple[str, float]]]:
     return out
 
 
-def plan_export(project: Project, key: str) -> Plan:
-    """The plan for the layout named ``key`` (see engine_layouts.LAYOUTS); not yet checked."""
+def plan_export(project: Project, key: str, merge: bool = False) -> Plan:
+    """The plan for the layout named ``key`` (see engine_layouts.LAYOUTS); not yet checked.
+    ``merge``: where the plan is :attr:`Plan.mergeable`, the weakest masks are merged until
+    the engine holds it (:func:`merge_weakest`)."""
     try:
         layout = LAYOUTS[key]
     except KeyError:
         raise StudioError(f"unknown layout '{key}' (layouts: {', '.join(LAYOUTS)})") from None
     planner = {"regions": _plan_regions, "per_pose": _plan_per_pose, "per_area": _plan_per_area,
                "vertex": _plan_vertex}[layout.kind]
-    return planner(project, layout)
+    plan = planner(project, layout)
+    if merge and plan.mergeable:
+        merge_weakest(project, plan)
+    return plan
+
+
+def merge_weakest(project: Project, plan: Plan) -> None:
+    """Fold the weakest mask into the one it overlaps most until the engine's limit holds.
+
+    Why the weakest and why there: O3DE blends at most 16 masks, each a morph target's; a mask
+    whose areas hardly reach is what the face loses least without, and in the mask lying over
+    the same skin it still shows when a neighbouring pose (often its other side or its partner
+    in an expression) moves. Weakness is a mask's influence: its channels' mean values added
+    (masks × gains, clamped per channel as written); a tie in overlap goes to the stronger.
+    """
+    areas = project.influence.areas
+
+    def coverage(texture: MaskTexture) -> np.ndarray:
+        """Where a mask reaches: its channels' values added (each clamped as it is written)."""
+        total = np.zeros(project.influence.resolution or (1, 1), np.float32)
+        for channel in texture.channels:
+            values = sum((np.float32(g) * areas[i].mask for i, g in channel.sources),
+                         np.zeros_like(total))
+            total += np.clip(values, 0.0, 1.0)
+        return total
+
+    cover = {t.name: coverage(t) for t in plan.masks}
+    while len(plan.masks) > plan.layout.limit:
+        weak = min(plan.masks, key=lambda t: float(cover[t.name].mean()))
+        strength = float(cover[weak.name].mean())
+        others = [t for t in plan.masks if t is not weak]
+        shared = {t.name: float(np.minimum(cover[weak.name], cover[t.name]).mean())
+                  for t in others}
+        into = max(others, key=lambda t: (shared[t.name], float(cover[t.name].mean())))
+        for channel in weak.channels:
+            target = next(c for c in into.channels if c.channel == channel.channel)
+            target.sources += channel.sources
+        plan.masks.remove(weak)
+        cover[into.name] = coverage(into)
+        plan.merged.append(Merge(weak.name, into.name, strength,
+                                 shared[into.name] / strength if strength > 0 else 0.0))
+    plan.used = len(plan.masks)
+    plan.samplers = len(plan.masks) + len(plan.maps)
 
 
 def own_maps(project: Project, folder: str = "maps") -> list[MapSlot]:
