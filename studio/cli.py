@@ -13,6 +13,10 @@ from pathlib import Path
 
 from studio.commands.options import EXIT_USAGE
 from studio.core.files.errors import StudioError
+from studio.core.files.naming import shown
+
+# The longest error message printed: a message naming a file's parts can list many.
+MESSAGE_CHARACTERS = 4000
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,8 +72,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         args.run = run_gui
     try:
         return args.run(args)
-    except StudioError as exc:
-        print(f"wrinkle-studio: error: {exc}", file=sys.stderr)
+    except StudioError as exc:  # one line, whatever names the file put in it
+        print(f"wrinkle-studio: error: {shown(exc, MESSAGE_CHARACTERS)}", file=sys.stderr)
         return EXIT_USAGE
 
 

@@ -20,6 +20,7 @@ import os
 import stat
 from collections.abc import Iterable
 from pathlib import Path
+from typing import BinaryIO
 
 from studio.core.files.errors import StudioError
 
@@ -95,7 +96,7 @@ def read_regular(path: str | Path, limit: int, error: type[StudioError] = Studio
             raise error(f"the {what} is {info.st_size} bytes, more than the limit of {limit} "
                         f"bytes{how}", path)
         with os.fdopen(fd, "rb", closefd=False) as handle:
-            data = handle.read(limit + 1)
+            data = _read_at_most(handle, min(limit, info.st_size), limit)
     except OSError as exc:
         raise error(f"cannot read the {what}: {exc.strerror or exc}", path) from None
     finally:
@@ -103,6 +104,23 @@ def read_regular(path: str | Path, limit: int, error: type[StudioError] = Studio
     if len(data) > limit:  # grew while being read
         raise error(f"the {what} is larger than the limit of {limit} bytes", path)
     return data
+
+
+def _read_at_most(handle: BinaryIO, size: int, limit: int) -> bytes:
+    """The handle's bytes, ``size`` expected, at most ``limit + 1``. Why not ``read(limit +
+    1)``: Python allocates the whole request first, 2 GB of address space for a 1 kB file,
+    which fails outright under a memory limit (``ulimit -v``). A file that grows while it is
+    read is read on a megabyte at a time."""
+    data = handle.read(size + 1)
+    if len(data) <= size:
+        return data
+    grown = bytearray(data)
+    while len(grown) <= limit:
+        piece = handle.read(min(1 << 20, limit + 1 - len(grown)))
+        if not piece:
+            break
+        grown += piece
+    return bytes(grown)
 
 
 def _same_file(a: Path, b: Path) -> bool:
