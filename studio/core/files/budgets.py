@@ -58,6 +58,20 @@ class Budget:
 # Images: decoded pixels of one image, and decoded bytes of all the images one file holds.
 IMAGE_PIXELS = Budget("MAX_IMAGE_PIXELS", 8192 * 8192, "pixels")
 TOTAL_IMAGE_BYTES = Budget("MAX_TOTAL_IMAGE_BYTES", 3 << 30, "bytes")
+# Decoded bytes of one image (width × height × channels × bytes a channel, from its header):
+# an 8K RGB texture at 8 bits, the largest a face scan ships. Pixels alone are not enough: an
+# 8192² RGBA image at 16 bits is 512 MB, decoded, and twice that while it is converted.
+IMAGE_BYTES = Budget("MAX_IMAGE_BYTES", 8192 * 8192 * 3, "bytes")
+# Decoded bytes of all the images one glTF file's face uses: two such textures.
+GLTF_IMAGE_BYTES = Budget("MAX_GLTF_IMAGE_BYTES", 2 * 8192 * 8192 * 3, "bytes")
+# Numbers a glTF file's accessors decode to, counted from what the file declares before any is
+# read, every placed copy of a mesh and every use of a shared accessor counted again: each is
+# a float64 while the scene is placed, merged and welded (about three copies at the peak). A
+# 30 000-vertex head with 300 morph targets is 27 million; a hostile file claims billions.
+GLTF_VALUES = Budget("MAX_GLTF_VALUES", 32_000_000, "numbers")
+# Keys of an animation read from a file (samples × animated key poses): each is a Python object
+# in memory and some 70 bytes of project.json, whose reader takes 64 MB.
+TIMELINE_KEYS = Budget("MAX_TIMELINE_KEYS", 500_000, "keys")
 # Files read whole into memory (meshes, glTF, images) before they are parsed.
 FILE_BYTES = Budget("MAX_FILE_BYTES", 2 << 30, "bytes")
 # Meshes: vertices and triangles of one mesh, and key poses (morph targets) of one face.
@@ -66,6 +80,11 @@ MESH_TRIANGLES = Budget("MAX_MESH_TRIANGLES", 40_000_000, "triangles")
 POSES = Budget("MAX_POSES", 1000, "key poses")
 # JSON nesting (project.json, glTF): real documents nest under ten levels.
 JSON_DEPTH = Budget("MAX_JSON_DEPTH", 64, "levels")
+# JSON arrays and objects, and bytes outside strings, of one document: parsed, a number costs
+# 32 bytes and an empty object 64, so a 200 MB list of numbers would take gigabytes; a real
+# glTF has thousands of objects, a project's timeline one list a key.
+JSON_CONTAINERS = Budget("MAX_JSON_CONTAINERS", 2_000_000, "arrays and objects")
+JSON_SYNTAX_BYTES = Budget("MAX_JSON_SYNTAX_BYTES", 64 << 20, "bytes")
 # Rendering: pixels of one frame (colour + depth, multisampled), frames of one animation, and
 # the pixels of a whole GIF (one byte each, the file's size before compression).
 RENDER_PIXELS = Budget("MAX_RENDER_PIXELS", 8192 * 8192, "pixels")
@@ -74,22 +93,52 @@ GIF_PIXELS = Budget("MAX_GIF_PIXELS", 2_000_000_000, "pixels")
 PATTERN_WIDTH = Budget("MAX_PATTERN_WIDTH", 16, "characters")
 
 
-def json_depth(text: str | bytes) -> int:
-    """How deeply the JSON ``text`` nests its arrays and objects (brackets inside strings do
-    not count), found without parsing, so a hostile document cannot exhaust the stack."""
+# A JSON string: quotes around anything but a quote or backslash, or a backslash escape
+# (written unrolled: one step per run of plain characters, not one per character).
+_JSON_STRING = rb'"[^"\\]*(?:\\.[^"\\]*)*"'
+_SCAN_PIECE = 1 << 20  # bytes of JSON counted at a time
+
+
+def json_shape(text: str | bytes) -> tuple[int, int, int]:
+    """(how deeply the JSON ``text`` nests its arrays and objects, how many it holds, its
+    bytes outside strings), found without parsing (brackets inside strings do not count), so a
+    hostile document cannot exhaust the stack or the memory of ``json.loads``.
+
+    Why this way: it must cost less than the parse it guards. Strings (an 11 MB data URI is
+    one) are cut out in C, then the brackets are counted a megabyte at a time: the scan costs
+    the text without its strings and some 12 MB, where ``json.loads`` spends 50 bytes or more
+    on every list or object it makes.
+    """
     import re
 
     import numpy as np
 
     data = text.encode("utf-8", "surrogatepass") if isinstance(text, str) else text
-    stripped = re.sub(rb'"(?:[^"\\]|\\.)*"', b'""', data, flags=re.DOTALL)
-    codes = np.frombuffer(stripped, np.uint8)
-    steps = (np.isin(codes, (ord("["), ord("{"))).astype(np.int64)
-             - np.isin(codes, (ord("]"), ord("}"))))
-    return int(np.cumsum(steps).max(initial=0))
+    stripped = re.sub(_JSON_STRING, b"", data, flags=re.DOTALL)
+    deepest = depth = containers = 0
+    for start in range(0, len(stripped), _SCAN_PIECE):  # a piece at a time: memory is bounded
+        folded = np.frombuffer(stripped, np.uint8, min(_SCAN_PIECE, len(stripped) - start),
+                               start) | 0x20  # "[" and "{" alike, "]" and "}" alike
+        opening = (folded == ord("{")).view(np.int8)
+        containers += int(np.count_nonzero(opening))
+        steps = opening - (folded == ord("}")).view(np.int8)
+        levels = np.cumsum(steps, dtype=np.int64) + depth
+        deepest = max(deepest, int(levels.max()))
+        depth = int(levels[-1])
+    return deepest, containers, len(stripped)
+
+
+def json_depth(text: str | bytes) -> int:
+    """How deeply the JSON ``text`` nests its arrays and objects."""
+    return json_shape(text)[0]
 
 
 def check_json_depth(text: str | bytes, what: str, path: object = None,
                      error: type[StudioError] = BudgetError) -> None:
-    """Refuse a JSON document nested deeper than :data:`JSON_DEPTH` (before ``json.loads``)."""
-    JSON_DEPTH.check(json_depth(text), f"the nesting of {what}", path, error)
+    """Refuse, before ``json.loads``, a JSON document nested deeper than :data:`JSON_DEPTH` or
+    holding more than :data:`JSON_CONTAINERS` arrays and objects or :data:`JSON_SYNTAX_BYTES`
+    outside its strings."""
+    depth, containers, syntax = json_shape(text)
+    JSON_DEPTH.check(depth, f"the nesting of {what}", path, error)
+    JSON_CONTAINERS.check(containers, f"the arrays and objects of {what}", path, error)
+    JSON_SYNTAX_BYTES.check(syntax, f"{what} outside its strings", path, error)

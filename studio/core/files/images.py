@@ -29,19 +29,49 @@ def read_image(path: str | Path) -> Array:
     return decode_image(data, path)
 
 
+# Bytes a pixel takes once decoded, by Pillow mode (palettes become RGB or RGBA; "I" and "F"
+# pass through float64 on their way to 16 bits).
+_PIL_PIXEL_BYTES = {"1": 1, "L": 1, "LA": 2, "RGB": 3, "RGBA": 4, "I;16": 2, "I;16B": 2,
+                    "I;16L": 2, "I": 8, "F": 8}
+_PNG_CHANNELS = {0: 1, 2: 3, 3: 4, 4: 2, 6: 4}  # by colour type; a palette becomes RGB(A)
+
+
+def _check_size(width: int, height: int, pixel_bytes: int, source: str | Path) -> None:
+    """Refuse, from the header, an image over the pixel budget or whose decoded pixels would
+    be over the byte budget (before any of it is decoded)."""
+    from studio.core.files.budgets import IMAGE_BYTES, IMAGE_PIXELS
+
+    IMAGE_PIXELS.check(width * height, "the image", source, ImageError)
+    IMAGE_BYTES.check(width * height * pixel_bytes, f"the image decoded ({width}×{height}, "
+                      f"{pixel_bytes} bytes a pixel)", source, ImageError)
+
+
+def decoded_bytes(data: bytes) -> int:
+    """The bytes the image ``data`` decodes to, from its header alone (0 when unknown)."""
+    try:
+        if data.startswith(SIGNATURE):
+            width, height, depth, colour, _ = png_header(data)
+            return width * height * _PNG_CHANNELS.get(colour, 4) * (2 if depth == 16 else 1)
+        Image.MAX_IMAGE_PIXELS = MAX_PIXELS
+        with Image.open(io.BytesIO(data)) as img:
+            return img.width * img.height * _PIL_PIXEL_BYTES.get(img.mode, 4)
+    except (PngError, OSError, ValueError, SyntaxError, Image.DecompressionBombError,
+            UnidentifiedImageError):
+        return 0  # decode_image says what is wrong
+
+
 def decode_image(data: bytes, source: str | Path) -> Array:
     """Pixels of an encoded image (PNG exactly, other formats through Pillow); ``source`` names
     where the bytes came from in error messages."""
-    from studio.core.files.budgets import IMAGE_PIXELS
-
     try:
         if data.startswith(SIGNATURE):
-            width, height, *_ = png_header(data)
-            IMAGE_PIXELS.check(width * height, "the image", source, ImageError)
+            width, height, depth, colour, _ = png_header(data)
+            _check_size(width, height, _PNG_CHANNELS.get(colour, 4) * (2 if depth == 16 else 1),
+                        source)
             return read_png(data, max_bytes=MAX_PIXELS * 8)
         Image.MAX_IMAGE_PIXELS = MAX_PIXELS
         with Image.open(io.BytesIO(data)) as img:
-            IMAGE_PIXELS.check(img.width * img.height, "the image", source, ImageError)
+            _check_size(img.width, img.height, _PIL_PIXEL_BYTES.get(img.mode, 4), source)
             if img.mode in ("I;16", "I;16B", "I;16L"):
                 return np.asarray(img, dtype=np.uint16)
             if img.mode in ("I", "F"):

@@ -20,6 +20,7 @@ except ImportError:  # pragma: no cover - Windows
 import numpy as np
 
 from studio.core.files.atomic_write import atomic_output
+from studio.core.files.budgets import check_json_depth
 from studio.core.files.errors import ProjectError
 from studio.core.files.png import encode_png
 from studio.core.project.mask_store import mask_members
@@ -28,6 +29,7 @@ from studio.core.project.schema import (
     FORMAT,
     FORMAT_VERSION,
     KNOWN_KEYS,
+    MAX_JSON_BYTES,
     MESH_ARRAYS,
     NOT_FACE_MEMBER,
     TEXTURES,
@@ -55,6 +57,7 @@ def save_project(project: Project, path: str | Path, backup: bool = True) -> Non
     path = Path(path)
     check_project(project, path)
     document = _document(project, path)
+    _check_document(document, path)
     with atomic_output(path, ProjectError, what="project", verb="save",
                        before_replace=keep_backup if backup else None) as handle:
         _write_archive(handle, project, document)
@@ -179,6 +182,17 @@ def _document(project: Project, path: Path) -> bytes:
                            f"written as JSON ({exc})", path) from None
     return text.encode("utf-8")
 
+
+
+def _check_document(document: bytes, path: Path) -> None:
+    """Refuse to write a project.json the reader would refuse: over its size, nesting or
+    container budgets (a timeline of millions of keys imported from an animation would make a
+    file that cannot be opened again)."""
+    if len(document) > MAX_JSON_BYTES:
+        raise ProjectError(f"cannot save the project: its description would be "
+                           f"{len(document) >> 20} MB, more than the {MAX_JSON_BYTES >> 20} MB "
+                           "a project can hold (a timeline with too many keys?)", path)
+    check_json_depth(document, "the project description", path, ProjectError)
 
 
 def _npy(array: Array) -> bytes:
