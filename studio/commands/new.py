@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 
 from studio.core.files.errors import StudioError
+from studio.core.files.naming import shown, shown_list
 
 
 def parse_pose(text: str) -> tuple[str, str]:
@@ -81,16 +82,18 @@ def run(args: argparse.Namespace) -> int:
         done = auto_start(project, locate=face_locator(frame))
     out = Path(args.output)
     save_project(project, out)
-    print(f"wrote {out}: {project.mesh.n_welded} vertices, key poses: "
-          f"{', '.join(p.name for p in project.poses) or 'none'}")
+    # names come from the user's files: each shown on the line it belongs to, escaped
+    print(f"wrote {shown(out)}: {project.mesh.n_welded} vertices, key poses: "
+          f"{shown_list((p.name for p in project.poses), limit=1000) or 'none'}")
     for line in found:
-        print(line)
+        print(shown(line, 4000))
     print(f"assumed: {frame.how}")
     if project.uv_tiles is not None:
         print(f"UV tiles {', '.join(map(str, project.uv_tiles.layout.tiles))} packed into one "
               f"atlas (skin on {', '.join(map(str, project.skin_tiles()))})")
     if project.not_face is not None and args.not_face:
-        print(f"not face ({', '.join(args.not_face)}): {int(project.not_face.sum())} vertices")
+        print(f"not face ({shown_list(args.not_face)}): {int(project.not_face.sum())} "
+              "vertices")
     for line in done:
-        print(line)
+        print(shown(line, 4000))
     return 0

@@ -10,6 +10,7 @@ from studio.commands.options import load_project_or_sample, parse_size, parse_ve
 from studio.core.files import atomic_write, safe_io
 from studio.core.files.errors import StudioError
 from studio.core.files.input_checks import finite_float
+from studio.core.files.naming import shown
 from studio.core.project.model import Project
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.core.setup.face_frame import aim, parse_axis
@@ -120,8 +121,8 @@ def run_render(args: argparse.Namespace) -> int:
     with atomic_write.atomic_output(out, make_folders=True, what="image") as handle:
         Image.fromarray(image).save(handle, format="PNG")
     relief = "" if args.relief == "off" else f", relief {args.relief}"
-    print(f"wrote {out} ({args.size[0]}x{args.size[1]}, {args.technique}{relief}, "
-          f"pose {args.pose})")
+    print(f"wrote {shown(out)} ({args.size[0]}x{args.size[1]}, {args.technique}{relief}, "
+          f"pose {shown(args.pose)})")
     return 0
 
 
@@ -175,8 +176,10 @@ def run_animation(args: argparse.Namespace,
     project = load_project_or_sample(args.project, args.vertices)
     timeline = project.timeline
     start, end, step = args.frames or (timeline.start, timeline.end + 1, 1)
+    # counted before a range is made: len() of a range past 2**63 frames raises OverflowError
+    check_animation_budget(max(0, -(-(end - start) // step)), args.size, args.gif is not None,
+                           args.project)
     frames = range(start, end, step)
-    check_animation_budget(len(frames), args.size, args.gif is not None, args.project)
     animation_weights(project, frames[:1])  # no keys: say so before opening a context
     writer = AnimationWriter(timeline.fps, args.output, args.gif, args.video, args.size,
                              step, [args.project])
@@ -193,10 +196,10 @@ def run_animation(args: argparse.Namespace,
         writer.abort()
         raise
     writer.close(step)
-    outputs = [str(p) for p in (writer.written[:1] if writer.written else [])]
+    outputs = [shown(p) for p in (writer.written[:1] if writer.written else [])]
     if writer.written:
-        outputs = [f"{len(writer.written)} frames ({writer.written[0]} …)"]
-    outputs += [str(p) for p in (writer.gif, writer.video) if p is not None]
+        outputs = [f"{len(writer.written)} frames ({shown(writer.written[0])} …)"]
+    outputs += [shown(p) for p in (writer.gif, writer.video) if p is not None]
     print(f"wrote {', '.join(outputs)} ({args.size[0]}x{args.size[1]}, {args.technique}, "
           f"frames {start}:{end}:{step} at {timeline.fps:g} fps)")
     return 0

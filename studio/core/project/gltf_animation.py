@@ -29,6 +29,8 @@ from typing import Protocol
 import numpy as np
 
 from studio.core.animation.timeline import Key, Timeline, Track
+from studio.core.files.budgets import FRAMES, TIMELINE_KEYS
+from studio.core.files.errors import MeshError
 from studio.core.wrinkles.influence import InfluenceSetup
 
 Array = np.ndarray
@@ -88,9 +90,12 @@ def animation_spec(timeline: Timeline, poses: Sequence[str], influence: Influenc
 
 
 def timeline_from_animation(doc: dict, node_of_mesh: int, pose_names: Sequence[str],
-                            accessor: Callable[[int], Array]) -> Timeline | None:
+                            accessor: Callable[[int], Array], source: object = None
+                            ) -> Timeline | None:
     """A timeline from the first animation with a weights channel on the mesh's node (None
-    when there is none). ``accessor`` reads an accessor index as float rows."""
+    when there is none). ``accessor`` reads an accessor index as float rows; ``source`` names
+    the file in the MeshError of an animation over the budgets (keys, frames), refused before
+    its keys are made."""
     for animation in doc.get("animations", []):
         for channel in animation.get("channels", []):
             target = channel.get("target", {})
@@ -98,27 +103,43 @@ def timeline_from_animation(doc: dict, node_of_mesh: int, pose_names: Sequence[s
                 continue
             sampler = animation["samplers"][channel["sampler"]]
             studio = animation.get("extras", {}).get(EXTRAS_KEY, {})
-            return _timeline(accessor(sampler["input"]).ravel(),
-                             accessor(sampler["output"]).ravel(),
-                             str(sampler.get("interpolation", "LINEAR")), pose_names, studio)
+            interpolation = str(sampler.get("interpolation", "LINEAR"))
+            times = accessor(sampler["input"]).ravel()
+            # the keys as Python objects, checked before the weights are read
+            TIMELINE_KEYS.check(len(times) * len(pose_names), f"the morph-weight animation's "
+                                f"keys ({len(times):,} samples × {len(pose_names)} key poses)",
+                                source, MeshError)
+            return _timeline(times, accessor(sampler["output"]).ravel(), interpolation,
+                             pose_names, studio, source)
     return None
 
 
 def _timeline(times: Array, values: Array, interpolation: str, pose_names: Sequence[str],
-              studio: dict) -> Timeline:
+              studio: dict, source: object = None) -> Timeline:
     n, p = len(times), len(pose_names)
-    if interpolation == "CUBICSPLINE":  # (in-tangent, value, out-tangent) per sample
-        values = values.reshape(n, 3, p)[:, 1]
-    weights = values.reshape(n, p)
+    per_key = 3 if interpolation == "CUBICSPLINE" else 1  # (in-tangent, value, out-tangent)
+    if len(values) != n * p * per_key:
+        raise ValueError(f"the animation has {len(values):,} weights for {n:,} keys of {p} "
+                         "key poses")
+    weights = values.reshape(n, per_key, p)[:, per_key // 2]
     fps = float(studio.get("fps", 24.0))
     start = int(studio.get("start", 0))
-    # float32 seconds carry ~1e-5 of a frame of rounding: snap to a thousandth of a frame
-    frames = np.round(start + times * fps, 3)
+    if not (0 < fps <= 1000 and abs(start) <= FRAMES.value):
+        raise ValueError("the animation's frame rate or range is invalid")
+    with np.errstate(over="ignore", invalid="ignore"):  # t = 3e38 s: checked just below
+        # float32 seconds carry ~1e-5 of a frame of rounding: snap to a thousandth of a frame
+        frames = np.round(start + times * fps, 3)
+    with np.errstate(over="ignore", invalid="ignore"):
+        last = float(np.max(np.abs(frames - start), initial=0.0))
+    FRAMES.check(int(last), f"the morph-weight animation's length (a key at "
+                 f"{float(np.max(np.abs(times), initial=0.0)):.3g} s, at {fps:g} fps)",
+                 source, MeshError)
     mode = "constant" if interpolation == "STEP" else "linear"
     tracks = [Track(name, [Key(float(f), float(v), mode)
                            for f, v in zip(frames.tolist(), weights[:, j].tolist(), strict=True)])
               for j, name in enumerate(pose_names)]
-    end = int(studio.get("end", max(int(np.ceil(frames[-1])), start + 1)))
+    end = int(studio.get("end", max(int(np.ceil(frames.max())), start + 1)))
+    FRAMES.check(end - start, "the morph-weight animation's frame range", source, MeshError)
     timeline = Timeline(tracks, fps, start, end)
     if not (timeline.fps > 0 and timeline.end > timeline.start):
         raise ValueError("the animation's frame rate or range is invalid")
