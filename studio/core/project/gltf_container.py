@@ -226,12 +226,15 @@ class _Gltf:
         return np.ndarray((count, width), dtype, buffer, start, (stride, dtype.itemsize))
 
     def accessor(self, index: int) -> Array:
-        """An accessor's values as float64 rows (normalized integers scaled to −1…1), read
-        once and kept read-only: instanced meshes and morph targets sharing one accessor cost
-        one decoding. What it declares is checked against the budgets before anything is
+        """An accessor's values as float64 rows (normalized integers scaled to −1…1), decoded
+        once and kept read-only, so instanced meshes and morph targets sharing one accessor
+        cost one decoding.
+
+        Every *use* counts against GLTF_VALUES, checked before the values are returned: each
+        use becomes a copy downstream (a mesh placed again, a key pose made of a shared
+        target), so a thousand uses of one accessor are refused before the thousand copies are
+        made, whichever reader asks. What an accessor declares is checked before any of it is
         allocated."""
-        if _whole(index) and index in self._decoded:
-            return self._decoded[index]
         try:
             acc = _item(self, "accessors", index)
             if acc.get("componentType") not in COMPONENTS or acc.get("type") not in WIDTH:
@@ -247,8 +250,10 @@ class _Gltf:
             MESH_VERTICES.check(count // 3 if acc["type"] == "SCALAR" else count,
                                 f"accessor {index}", self.path, MeshError)
             self.values += count * width
-            GLTF_VALUES.check(self.values, f"the numbers decoded, with accessor {index} "
+            GLTF_VALUES.check(self.values, f"the numbers read, with accessor {index} "
                               f"({count:,} × {width}),", self.path, MeshError)
+            if index in self._decoded:
+                return self._decoded[index]
             if "bufferView" in acc:
                 values = self._elements(acc["bufferView"], offset, dtype, width, count,
                                         f"accessor {index}").astype(np.float64)
