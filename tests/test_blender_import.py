@@ -94,7 +94,7 @@ def check_import(project: Project, report: dict, positions: bool = True) -> None
                                        err_msg=key["name"])
         loops = np.array(mesh["loop_vertices"])
         np.testing.assert_allclose(mesh["loop_uvs"], face.uvs[loops], atol=1e-6)
-    assert mesh["uv_layers"] == ["UVMap"]
+    assert mesh["uv_layers"] == ["UVMap", "UVMap.001"]  # the second: the studio's welding
     assert mesh["materials"] == [{"name": "skin", "images": ["diffuse", "normal_neutral"]}]
     assert mesh["attributes"] == sorted(vertex_attributes(project))
     assert report["actions"] == (["timeline"] if project.timeline.has_keys else [])

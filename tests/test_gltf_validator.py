@@ -76,7 +76,9 @@ def test_every_export_is_valid_without_warnings(exports):
 
 def test_no_exported_map_or_mask_is_an_unused_object(exports):
     """Masks and further wrinkled maps are KHR_materials_variants materials, which the
-    validator follows: none of their images is reported unused (an information)."""
+    validator follows: none of their images is reported unused (an information). TEXCOORD_1
+    is, by design: no material samples it, it carries the studio's welding through tools that
+    drop custom attributes (core/project/gltf_carry.py)."""
     for report in validate(exports[:1] + exports[3:]):
         unused = [m["pointer"] for m in report["messages"] if m["code"] == "UNUSED_OBJECT"]
-        assert unused == [], report["file"]
+        assert unused == ["/meshes/0/primitives/0/attributes/TEXCOORD_1"], report["file"]

@@ -14,9 +14,12 @@ vertex attributes, every one a float VEC3 (see :func:`vertex_attributes`): ``_WR
 and whether they are painted) and ``_WELD_NOTFACE_TILE`` (the welded vertex number, 1 on vertices
 never wrinkled, the UDIM tile). Everything else the studio authored (masks as 16-bit PNG
 images, further wrinkled maps, which map each area reveals, links, cone angles, the timeline, the
-tangent frame) rides in ``extras.wrinkleStudio``, so a file exported here
-imports back with nothing lost. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
-``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``) still open.
+tangent frame) rides in ``extras.wrinkleStudio``, its images named (not numbered), so a file
+exported here imports back with nothing lost. A re-export by another tool that drops extras and
+custom attributes (Blender, with any options) still does: ``TEXCOORD_1`` and a chunk of the
+neutral normal map's PNG carry the set-up (core/project/gltf_carry.py), and the reader says what
+it could not bring back. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
+``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``; images by index) still open.
 """
 
 from __future__ import annotations
@@ -39,9 +42,17 @@ from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
 from studio.core.project.gltf_animation import animation_spec, timeline_from_animation
+from studio.core.project.gltf_carry import STUDIO_UV, find_setup, studio_uvs, with_setup
 from studio.core.project.gltf_container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
 from studio.core.project.gltf_face import choose_face, merge_face, report_lines, scene_groups
-from studio.core.project.gltf_materials import _rgb, atlas_textures
+from studio.core.project.gltf_materials import (
+    _rgb,
+    atlas_textures,
+    image_data,
+    image_index,
+    texture_source,
+    wrinkle_image,
+)
 from studio.core.project.gltf_scene import scene_meshes
 from studio.core.project.model import Project
 from studio.core.project.view_settings import saved_view
@@ -84,11 +95,12 @@ def load_gltf(path: str | Path, keep: Collection[str] | None = None,
     path = Path(path)
     try:
         g = _Gltf(path)
-        if _written_here(g):
+        studio = _studio_setup(g)
+        if studio is not None:
             if keep is not None or not_face:
                 raise MeshError("this file was written by Wrinkle Studio: its face is one mesh, "
                                 "with no parts to keep or mark", path)
-            return _load_own(g)
+            return _load_own(g, *studio, report if report is not None else [])
         return _load_scene(g, keep, not_face, kind, report)
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
             RecursionError, struct.error) as exc:  # a structure no check above foresaw
@@ -97,11 +109,33 @@ def load_gltf(path: str | Path, keep: Collection[str] | None = None,
 
 
 def _written_here(g: _Gltf) -> bool:
-    """The studio's own export: its extras, or its welded numbering on a primitive."""
-    return g.doc.get("extras", {}).get(EXTRAS_KEY) is not None or any(
-        isinstance(p, dict) and {VERTEX_DATA, OLD_WELD} & set(p.get("attributes", {}))
-        for m in _list(g, g.doc, "meshes") if isinstance(m, dict)
-        for p in m.get("primitives", []))
+    return _studio_setup(g) is not None
+
+
+def _studio_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
+    """The studio's own export: (its extras, the per-welded-vertex data carried beside them),
+    None for another tool's file. Its extras at the root, or its welded numbering on a
+    primitive (no arrays: the attributes hold them); else, re-exported by a tool that drops
+    extras (Blender), the set-up its neutral normal map carries (core/project/gltf_carry.py)."""
+    extras = g.doc.get("extras", {}).get(EXTRAS_KEY)
+    if extras is not None or any(
+            isinstance(p, dict) and {VERTEX_DATA, OLD_WELD} & set(p.get("attributes", {}))
+            for m in _list(g, g.doc, "meshes") if isinstance(m, dict)
+            for p in m.get("primitives", [])):
+        return extras or {}, {}
+    try:
+        _, prim = _triangle_primitive(g)
+        info = _material(g, prim).get("normalTexture")
+        data = image_data(g, texture_source(g, info)) if isinstance(info, dict) else None
+    except (MeshError, KeyError, IndexError, TypeError, AttributeError):
+        return None  # another tool's file, and none that a set-up could ride in: read as one
+    if data is None:
+        return None
+    try:
+        return find_setup(data)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise MeshError(f"the studio's set-up in the neutral normal map is damaged ({exc})",
+                        g.path) from None
 
 
 def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str] | None,
@@ -129,7 +163,11 @@ def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str
     return project
 
 
-def _load_own(g: _Gltf) -> Project:
+def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[str]
+              ) -> Project:
+    """The studio's own file; ``carried``: the per-welded-vertex data a re-export by another
+    tool kept in the neutral normal map, where the custom attributes were dropped. What could
+    not come back is appended to ``report``, a line each."""
     path = g.path
     mesh_spec, prim = _triangle_primitive(g)
     attrs = prim["attributes"]
@@ -148,12 +186,15 @@ def _load_own(g: _Gltf) -> Project:
         if len(positions) % 3:
             raise MeshError(f"{len(positions)} vertices without indices are not triangles", path)
         triangles = np.arange(len(positions)).reshape(-1, 3)
-    weld_attribute = next((a for a in (VERTEX_DATA, OLD_WELD) if a in attrs), None)
+    weld_attribute = next((a for a in (VERTEX_DATA, OLD_WELD, STUDIO_UV) if a in attrs), None)
     if weld_attribute:  # written by the studio: keep its welded numbering exactly
         mesh = _mesh_with_weld(g, positions, triangles, uvs,
                                g.accessor(attrs[weld_attribute])[:, 0])
     else:
         mesh = mesh_from_render_vertices(path, positions, triangles, uvs)
+        if carried:
+            report.append("the studio's welding was lost with the second UV map "
+                          f"({STUDIO_UV}): the vertices are welded by position")
     first = _first_occurrence(mesh.weld, mesh.n_welded)
     names = (mesh_spec.get("extras", {}).get("targetNames")
              or prim.get("extras", {}).get("targetNames") or [])
@@ -171,15 +212,16 @@ def _load_own(g: _Gltf) -> Project:
         poses.append(KeyPose(name, (positions + offsets)[first]))
     material = _material(g, prim)
     pbr = material.get("pbrMetallicRoughness", {})
-    extras = g.doc.get("extras", {}).get(EXTRAS_KEY, {})
     textures = FaceTextures(
         diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), plain_diffuse()),
         normal_neutral=_rgb(g.texture_image(material.get("normalTexture")), flat_normal_map()),
-        normal_wrinkled=_rgb(g.texture_image(material.get("extras", {}).get(
-            "wrinkleNormalTexture")), flat_normal_map()))
+        normal_wrinkled=_rgb(wrinkle_image(g, material), flat_normal_map()))
     project = Project(str(extras.get("name", path.stem)), mesh, poses, textures)
+    if carried:
+        report.append("the studio's set-up came back from the neutral normal map: another "
+                      "tool re-exported this file without its extras and custom attributes")
     try:
-        _read_studio_extras(g, project, extras, attrs, first)
+        _read_studio_extras(g, project, extras, attrs, first, carried, report)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise MeshError(f"the studio data in extras.{EXTRAS_KEY} is malformed ({exc})",
                         path) from None
@@ -236,10 +278,12 @@ def _material(g: _Gltf, prim: dict) -> dict:
 
 
 def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
-                        first: Array) -> None:
+                        first: Array, carried: dict[str, Array], report: list[str]) -> None:
+    """The set-up from the extras (images by name, or by index in older files) and the
+    per-vertex data from the attributes, else from ``carried``."""
     areas = []
     for spec in extras.get("influence", {}).get("areas", []):
-        mask = g.image(spec["image"]).astype(np.float32) / 65535.0
+        mask = g.image(image_index(g, spec["image"])).astype(np.float32) / 65535.0
         areas.append(InfluenceArea(spec["name"], mask, tuple(spec.get("colour", (255, 128, 0))),
                                    float(spec.get("activation", 0.0)),
                                    bool(spec.get("visible", True)),
@@ -249,20 +293,31 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
                                        curves_from_dict(influence.get("curves", {})))
     if extras.get("wrinkle_maps"):
         tex = project.textures
-        maps = {str(m["name"]): _rgb(g.image(m["image"]), tex.normal_wrinkled)
+        maps = {str(m["name"]): _rgb(g.image(image_index(g, m["image"])), tex.normal_wrinkled)
                 for m in extras["wrinkle_maps"]}
         project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
+    n_welded = len(first)
     not_face, tiles = _vertex_data(g, attrs)
     if not_face is not None:
         project.not_face = not_face[first] > 0.5
+    elif _fits(carried.get("not_face"), n_welded):
+        project.not_face = carried["not_face"] > 0
+    elif carried and "not_face" in carried:
+        report.append("the parts marked not face were lost with the studio's welding")
     if "uv_tiles" in extras and tiles is not None:
         project.uv_tiles = UvTiles(TileLayout.from_dict(extras["uv_tiles"]),
                                    np.rint(tiles).astype(np.int16))
+    elif "uv_tiles" in extras:
+        report.append("the UDIM tiles are not restored: the face stays on its atlas of them")
     wdv = extras.get("wdv", {})
     wdv_areas = []
     for n, spec in enumerate(wdv.get("areas", [])):
-        dirs = g.accessor(attrs[f"_WRINKLE_DIR_{n}"])[first]
-        lengths, cones = _wdv_sizes(g, attrs, n, first)
+        data = _wdv_data(g, attrs, n, first, carried)
+        if data is None:
+            report.append(f"technique-2 area '{spec['name']}' was lost with the custom vertex "
+                          "attributes: rebuild it (Auto Setup)")
+            continue
+        dirs, lengths, cones = data
         wdv_areas.append(WdvArea(spec["name"], spec["pose"], dirs, lengths,
                                  tuple(spec.get("colour", (0, 170, 255))),
                                  float(spec.get("cone_angle_deg", 20.0)),
@@ -278,24 +333,55 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
 
 def _vertex_data(g: _Gltf, attrs: dict) -> tuple[Array | None, Array | None]:
     """(not-face values, UDIM tiles) per render vertex, each None where the file has none:
-    the VEC3's columns (a not-face column of zeros is no marking), or the older scalars."""
+    the VEC3's columns (a not-face column of zeros is no marking), or the older scalars; the
+    tiles else from the studio's second UV map."""
     if VERTEX_DATA in attrs:
         data = g.accessor(attrs[VERTEX_DATA])
         return (data[:, 1] if (data[:, 1] > 0.5).any() else None), data[:, 2]
     not_face, tiles = (g.accessor(attrs[name])[:, 0] if name in attrs else None
                        for name in ("_NOT_FACE", "_UDIM_TILE"))
+    if tiles is None and STUDIO_UV in attrs:
+        tiles = g.accessor(attrs[STUDIO_UV])[:, 1]
     return not_face, tiles
 
 
-def _wdv_sizes(g: _Gltf, attrs: dict, n: int, first: Array) -> tuple[Array, Array | None]:
-    """Area ``n``'s lengths and painted cone angles (None: not painted) per welded vertex."""
-    sizes = wdv_attributes(n)[1]
-    if sizes in attrs:
+def _fits(array: Array | None, n_welded: int) -> bool:
+    return array is not None and len(array) == n_welded
+
+
+def _wdv_data(g: _Gltf, attrs: dict, n: int, first: Array, carried: dict[str, Array]
+              ) -> tuple[Array, Array, Array | None] | None:
+    """Area ``n``'s directions, lengths and painted cone angles (None: not painted) per welded
+    vertex: from its attributes (this layout's or the older one's), else from ``carried``;
+    None when neither holds them."""
+    directions, sizes = wdv_attributes(n)
+    if directions in attrs and sizes in attrs:
         data = g.accessor(attrs[sizes])[first]
-        return data[:, 0], (data[:, 1] if (data[:, 2] > 0.5).any() else None)
-    cones = f"_WRINKLE_CONE_{n}"
-    return (g.accessor(attrs[f"_WRINKLE_LEN_{n}"])[first, 0],
-            g.accessor(attrs[cones])[first, 0] if cones in attrs else None)
+        return (g.accessor(attrs[directions])[first], data[:, 0],
+                data[:, 1] if (data[:, 2] > 0.5).any() else None)
+    cones, lengths = f"_WRINKLE_CONE_{n}", f"_WRINKLE_LEN_{n}"
+    if directions in attrs and lengths in attrs:
+        return (g.accessor(attrs[directions])[first], g.accessor(attrs[lengths])[first, 0],
+                g.accessor(attrs[cones])[first, 0] if cones in attrs else None)
+    key = f"wdv{n}."
+    if not all(_fits(carried.get(key + k), len(first)) for k in ("directions", "lengths")):
+        return None
+    return (carried[key + "directions"], carried[key + "lengths"],
+            carried.get(key + "cones"))
+
+
+def carried_arrays(project: Project) -> dict[str, Array]:
+    """What the custom attributes hold, per welded vertex, for the neutral normal map to carry
+    through a tool that drops them (core/project/gltf_carry.py)."""
+    out: dict[str, Array] = {}
+    if project.not_face is not None:
+        out["not_face"] = project.not_face
+    for n, area in enumerate(project.wdv.areas):
+        out[f"wdv{n}.directions"] = area.directions
+        out[f"wdv{n}.lengths"] = area.lengths
+        if area.cone_angles_deg is not None:
+            out[f"wdv{n}.cones"] = area.cone_angles_deg
+    return out
 
 
 # --- writing ---------------------------------------------------------------------------------
@@ -369,10 +455,10 @@ def _variants(textures: list[dict], wrinkle_maps: list[dict], masks: list[tuple[
         materials.append({**skin, "name": f"skin, wrinkled: {spec['name']}",
                           "normalTexture": {"index": texture(spec["image"])}})
         names.append(f"wrinkled: {spec['name']}")
-    for name, image_index in masks:
+    for name, mask_image in masks:
         materials.append({"name": f"mask: {name}", "extensions": {"KHR_materials_unlit": {}},
                           "pbrMetallicRoughness": {"baseColorTexture": {
-                              "index": texture(image_index)}, "metallicFactor": 0.0}})
+                              "index": texture(mask_image)}, "metallicFactor": 0.0}})
         names.append(f"mask: {name}")
     root = {"variants": [{"name": n} for n in names]}
     mappings = {"mappings": [{"material": 1 + i, "variants": [i]} for i in range(len(names))]}
@@ -408,6 +494,29 @@ def vertex_attributes(project: Project) -> dict[str, Array]:
     return out
 
 
+def _studio_extras(project: Project, frame: str, map_images: list[str],
+                   mask_images: list[str]) -> dict:
+    """``extras.wrinkleStudio``: everything the studio authored that glTF has no place for,
+    each image named (``map_images``: the wrinkled maps', ``mask_images``: the masks')."""
+    tex = project.textures
+    return {
+        "name": project.name, "timeline": project.timeline.to_dict(), "tangent_frame": frame,
+        "influence": {"links": project.influence.links,
+                      "curves": curves_to_dict(project.influence.curves), "areas": [
+            {"name": a.name, "colour": list(a.colour), "activation": a.activation,
+             "visible": a.visible, "wrinkle_map": a.wrinkle_map, "image": image}
+            for a, image in zip(project.influence.areas, mask_images, strict=True)]},
+        "wrinkle_maps": [{"name": name, "image": image}
+                         for name, image in zip(tex.wrinkle_map_names, map_images, strict=True)],
+        **({"uv_tiles": project.uv_tiles.layout.to_dict()} if project.uv_tiles else {}),
+        "wdv": {"expression_factor": project.wdv.expression_factor,
+                "scale_free": project.wdv.scale_free,
+                "areas": [{"name": a.name, "pose": a.pose, "colour": list(a.colour),
+                           "cone_angle_deg": a.cone_angle_deg, "enabled": a.enabled,
+                           "wrinkle_map": a.wrinkle_map}
+                          for a in project.wdv.areas]}}
+
+
 def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = None) -> None:
     """Write the project as a binary glTF (.glb).
 
@@ -429,30 +538,34 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
         attributes[name] = b.accessor(data, "VEC3")
     targets = [{"POSITION": b.accessor(pose.positions[weld] - rest, "VEC3", bounds=True),
                 **deltas} for pose, deltas in zip(project.poses, surface_deltas, strict=True)]
+    tiles = None if project.uv_tiles is None else project.uv_tiles.vertex_tile
+    attributes[STUDIO_UV] = b.accessor(studio_uvs(weld, tiles), "VEC2")
+    tex = project.textures
+    # images are named, and the studio's extras refer to them by name: other tools renumber
+    map_images = ["normal_wrinkled", *(f"wrinkled: {name}" for name in tex.wrinkle_map_names[1:])]
+    mask_images = [f"mask: {a.name}" for a in project.influence.areas]
+    studio = _studio_extras(project, frame, map_images, mask_images)
     images: list[dict] = []
 
-    def image(array: Array, name: str) -> int:
-        images.append({"bufferView": b.view(encode_png(array)), "mimeType": "image/png",
-                       "name": name})
+    def image(data: Array | bytes, name: str) -> int:
+        png = data if isinstance(data, bytes) else encode_png(data)
+        images.append({"bufferView": b.view(png), "mimeType": "image/png", "name": name})
         return len(images) - 1
 
-    tex = project.textures
+    neutral = with_setup(encode_png(tex.normal_neutral), studio, carried_arrays(project))
     textures = [{"source": image(tex.diffuse, "diffuse")},
-                {"source": image(tex.normal_neutral, "normal_neutral")},
-                {"source": image(tex.normal_wrinkled, "normal_wrinkled")}]
-    wrinkle_maps = [{"name": name, "image": 2 if i == 0 else image(im, f"wrinkled: {name}")}
-                    for i, (name, im) in enumerate(tex.wrinkle_maps.items())]
-    influence = {"links": project.influence.links,
-                 "curves": curves_to_dict(project.influence.curves), "areas": [
-        {"name": a.name, "colour": list(a.colour), "activation": a.activation,
-         "visible": a.visible, "wrinkle_map": a.wrinkle_map,
-         "image": image(np.round(a.mask * 65535.0).astype(np.uint16), f"mask: {a.name}")}
-        for a in project.influence.areas]}
+                {"source": image(neutral, "normal_neutral")}]
+    maps = [image(im, name) for im, name in zip(tex.wrinkle_maps.values(), map_images,
+                                                strict=True)]
+    textures.append({"source": maps[0]})
+    masks = [(a.name, image(np.round(a.mask * 65535.0).astype(np.uint16), name))
+             for a, name in zip(project.influence.areas, mask_images, strict=True)]
     skin = {"name": "skin", "pbrMetallicRoughness": {
         "baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 0.7},
         "normalTexture": {"index": 1}}
     variant_materials, variants, mappings = _variants(
-        textures, wrinkle_maps, [(a["name"], a["image"]) for a in influence["areas"]], skin)
+        textures, [{"name": n, "image": i} for n, i in zip(tex.wrinkle_map_names, maps,
+                                                            strict=True)], masks, skin)
     primitive = {"attributes": attributes, "indices": b.accessor(mesh.triangles.ravel(),
                                                                   "SCALAR", indices=True),
                  "material": 0, "mode": 4,
@@ -461,7 +574,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
         primitive["targets"] = targets
     animation = animation_spec(project.timeline, [p.name for p in project.poses],
                                project.influence, b)
-    used = ["KHR_materials_variants"] + (["KHR_materials_unlit"] if influence["areas"] else [])
+    used = ["KHR_materials_variants"] + (["KHR_materials_unlit"] if masks else [])
     doc = {
         "asset": {"version": "2.0", "generator": "Wrinkle Studio"},
         "extensionsUsed": used,
@@ -471,22 +584,15 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
         "meshes": [{"name": project.name, "primitives": [primitive],
                     "weights": [0.0] * len(targets),
                     "extras": {"targetNames": [p.name for p in project.poses]}}],
-        "materials": [{**skin, "extras": {"wrinkleNormalTexture": {"index": 2}}},
-                      *variant_materials],
+        # the index for readers of the JSON, the image's name for after another tool's
+        # re-export (which keeps names and renumbers textures)
+        "materials": [{**skin, "extras": {"wrinkleNormalTexture": {
+            "index": 2, "image": map_images[0]}}}, *variant_materials],
         "textures": textures, "images": images,
         **({"animations": [animation]} if animation else {}),
         "accessors": b.accessors, "bufferViews": b.views,
         "buffers": [{"byteLength": len(b.blob)}],
-        "extras": {EXTRAS_KEY: {
-            "name": project.name, "influence": influence, "timeline": project.timeline.to_dict(),
-            "tangent_frame": frame, "wrinkle_maps": wrinkle_maps,
-            **({"uv_tiles": project.uv_tiles.layout.to_dict()} if project.uv_tiles else {}),
-            "wdv": {"expression_factor": project.wdv.expression_factor,
-                    "scale_free": project.wdv.scale_free,
-                    "areas": [{"name": a.name, "pose": a.pose, "colour": list(a.colour),
-                               "cone_angle_deg": a.cone_angle_deg, "enabled": a.enabled,
-                               "wrinkle_map": a.wrinkle_map}
-                              for a in project.wdv.areas]}}},
+        "extras": {EXTRAS_KEY: studio},
     }
     text = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     text += b" " * (-len(text) % 4)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from studio.core.files.errors import MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import (
     FIRST_TILE,
@@ -22,7 +23,7 @@ from studio.core.mesh.uv_tiles import (
     pack_mesh,
     tile_origin,
 )
-from studio.core.project.gltf_container import _Gltf
+from studio.core.project.gltf_container import _Gltf, _item, _list, _whole
 from studio.core.project.gltf_face import FaceChoice, MergedFace
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
 
@@ -38,6 +39,57 @@ def _rgb(image: Array | None, fallback: Array | None = None) -> Array | None:
     if image.ndim == 2:
         image = np.repeat(image[:, :, None], 3, axis=2)
     return np.ascontiguousarray(image[:, :, :3])
+
+
+def texture_source(g: _Gltf, info: dict) -> int:
+    """The image a texture reference shows (its EXT_texture_webp source where it has one)."""
+    try:
+        texture = _item(g, "textures", info["index"])
+        webp = (texture.get("extensions") or {}).get("EXT_texture_webp") or {}
+        return webp["source"] if "source" in webp else texture["source"]
+    except (MeshError, KeyError, TypeError):
+        raise MeshError("a material refers to a texture that does not exist", g.path) from None
+
+
+def image_data(g: _Gltf, index: int) -> bytes | None:
+    """An image's encoded bytes as the file holds them (None for an image behind a URI): what
+    rides in them beside the pixels (core/project/gltf_carry.py) is read from these."""
+    spec = _item(g, "images", index)
+    if "bufferView" not in spec:
+        return None
+    view = _item(g, "bufferViews", spec["bufferView"])
+    start, length = view.get("byteOffset", 0), view.get("byteLength")
+    buffer = _item(g, "buffers", view.get("buffer"), g.buffers)
+    if not (_whole(start) and _whole(length)) or start + length > len(buffer):
+        raise MeshError(f"image {index}'s buffer view is out of its buffer", g.path)
+    return bytes(memoryview(buffer)[start:start + length])
+
+
+def image_index(g: _Gltf, ref: object) -> int:
+    """An image named by the studio's extras: by its name (what other tools keep; Blender cuts
+    names at 63 bytes), or by its index (files written before names)."""
+    if not isinstance(ref, str):
+        return ref  # type: ignore[return-value]  # an index: g.image checks it
+    names = [spec.get("name") if isinstance(spec, dict) else None
+             for spec in _list(g, g.doc, "images")]
+    cut = ref.encode("utf-8")[:63].decode("utf-8", "ignore")
+    for wanted in (ref, cut):
+        if wanted in names:
+            return names.index(wanted)
+    raise MeshError(f"the studio's extras name an image '{ref}' the file does not hold", g.path)
+
+
+def wrinkle_image(g: _Gltf, material: dict) -> Array | None:
+    """The wrinkled normal map a material's extras name (``wrinkleNormalTexture``): by the
+    image's name where it gives one (another tool may have renumbered the textures and copied
+    the extras as they were), else by the texture's index."""
+    info = (material.get("extras") or {}).get("wrinkleNormalTexture")
+    if isinstance(info, dict) and isinstance(info.get("image"), str):
+        try:
+            return g.image(image_index(g, info["image"]))
+        except MeshError:
+            pass  # renamed too: the index, as the file says
+    return g.texture_image(info) if isinstance(info, dict) else None
 
 
 def _material(g: _Gltf, index: int | None) -> dict:
@@ -116,5 +168,4 @@ def _own_maps(g: _Gltf, material: dict) -> FaceTextures:
     return FaceTextures(
         diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), plain_diffuse()),
         normal_neutral=_rgb(g.texture_image(material.get("normalTexture")), flat_normal_map()),
-        normal_wrinkled=_rgb(g.texture_image(material.get("extras", {}).get(
-            "wrinkleNormalTexture")), flat_normal_map()))
+        normal_wrinkled=_rgb(wrinkle_image(g, material), flat_normal_map()))
