@@ -92,7 +92,7 @@ def test_blender_s_re_export_opens_with_the_whole_set_up(round_trip, options):
     back = load_gltf(files[options], report=report)
     check_same_set_up(back, project)
     assert report == ["the studio's set-up came back from the neutral normal map: another "
-                      "tool re-exported this file without its extras and custom attributes"]
+                      "tool re-exported this file without its extras"]
 
 
 def changed_shares(project: Project, pose: str) -> dict[str, float]:

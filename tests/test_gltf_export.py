@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from studio.core.animation.timeline import Key, sequence_all_poses
+from studio.core.files.errors import MeshError
 from studio.core.mesh.geometry import DeformCache
 from studio.core.project.gltf import _Gltf, load_gltf, save_gltf
 from studio.core.project.sample import make_test_face
@@ -185,3 +186,56 @@ def test_a_file_of_the_older_scalar_layout_opens_as_it_was(small, tmp_path):
                 assert got.cone_angles_deg is None
             else:
                 np.testing.assert_allclose(got.cone_angles_deg, want.cone_angles_deg)
+
+
+def test_a_wrinkled_map_named_in_the_material_s_extras_survives_renumbered_textures(small,
+                                                                                     tmp_path):
+    """Another tool copies the skin's extras as they were and renumbers the textures; with
+    neither the studio's extras nor its carried set-up left, the material's wrinkled map is
+    found by its image's name, not by the stale index."""
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+
+    def foreign(doc: dict) -> None:
+        del doc["extras"]
+        prim = doc["meshes"][0]["primitives"][0]
+        for name in [a for a in prim["attributes"] if a.startswith("_") or a == "TEXCOORD_1"]:
+            del prim["attributes"][name]
+        skin = doc["materials"][0]
+        skin["normalTexture"] = {"index": 0}  # a map with no set-up in it
+        skin["extras"]["wrinkleNormalTexture"]["index"] = 0  # renumbered: now the diffuse
+
+    rewrite_glb(path, foreign)
+    back = load_gltf(path)
+    assert back.influence.areas == []  # read as another tool's file
+    first = small.textures.wrinkle_map_names[0]
+    np.testing.assert_array_equal(back.textures.normal_wrinkled,
+                                  small.textures.wrinkle_maps[first])
+
+
+def neutral_png(path: Path) -> tuple[bytes, int]:
+    """The neutral normal map's PNG bytes in a GLB and where they start in the file."""
+    g = _Gltf(path)
+    view = g.doc["bufferViews"][g.doc["images"][1]["bufferView"]]
+    data = path.read_bytes()
+    json_length = struct.unpack_from("<I", data, 12)[0]
+    start = 20 + json_length + 8 + view.get("byteOffset", 0)
+    return data[start:start + view["byteLength"]], start
+
+
+def test_a_damaged_or_swollen_set_up_chunk_is_refused_by_name(small, tmp_path, monkeypatch):
+    path = tmp_path / "face.glb"
+    save_gltf(small, path)
+    rewrite_glb(path, lambda doc: doc.pop("extras"))  # as after Blender: the chunk is read
+    assert load_gltf(path).influence.links == small.influence.links
+    png, start = neutral_png(path)
+    at = png.index(b"wrSt") + 4
+    monkeypatch.setenv("WRINKLE_STUDIO_MAX_IMAGE_BYTES", "1000")
+    with pytest.raises(MeshError, match=r"set-up in the neutral normal map is damaged.*inflates"):
+        load_gltf(path)
+    monkeypatch.delenv("WRINKLE_STUDIO_MAX_IMAGE_BYTES")
+    data = bytearray(path.read_bytes())
+    data[start + at + 10] ^= 0xFF
+    path.write_bytes(bytes(data))
+    with pytest.raises(MeshError, match=r"damaged .*checksum"):
+        load_gltf(path)

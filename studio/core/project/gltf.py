@@ -118,17 +118,26 @@ def _studio_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
     primitive (no arrays: the attributes hold them); else, re-exported by a tool that drops
     extras (Blender), the set-up its neutral normal map carries (core/project/gltf_carry.py)."""
     extras = g.doc.get("extras", {}).get(EXTRAS_KEY)
-    if extras is not None or any(
-            isinstance(p, dict) and {VERTEX_DATA, OLD_WELD} & set(p.get("attributes", {}))
-            for m in _list(g, g.doc, "meshes") if isinstance(m, dict)
-            for p in m.get("primitives", [])):
-        return extras or {}, {}
+    if extras is not None:
+        return extras, {}
+    carried = _carried_setup(g)
+    if carried is not None:
+        return carried
+    if any(isinstance(p, dict) and {VERTEX_DATA, OLD_WELD} & set(p.get("attributes", {}))
+           for m in _list(g, g.doc, "meshes") if isinstance(m, dict)
+           for p in m.get("primitives", [])):
+        return {}, {}
+    return None
+
+
+def _carried_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
+    """The set-up the face's neutral normal map carries, None where it carries none."""
     try:
         _, prim = _triangle_primitive(g)
         info = _material(g, prim).get("normalTexture")
         data = image_data(g, texture_source(g, info)) if isinstance(info, dict) else None
     except (MeshError, KeyError, IndexError, TypeError, AttributeError):
-        return None  # another tool's file, and none that a set-up could ride in: read as one
+        return None  # no map that a set-up could ride in
     if data is None:
         return None
     try:
@@ -219,7 +228,7 @@ def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[st
     project = Project(str(extras.get("name", path.stem)), mesh, poses, textures)
     if carried:
         report.append("the studio's set-up came back from the neutral normal map: another "
-                      "tool re-exported this file without its extras and custom attributes")
+                      "tool re-exported this file without its extras")
     try:
         _read_studio_extras(g, project, extras, attrs, first, carried, report)
     except (KeyError, IndexError, TypeError, ValueError) as exc:

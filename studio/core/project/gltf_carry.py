@@ -26,7 +26,7 @@ import zlib
 
 import numpy as np
 
-from studio.core.files.budgets import FILE_BYTES
+from studio.core.files.budgets import IMAGE_BYTES
 
 Array = np.ndarray
 CHUNK = b"wrSt"  # ancillary (w), private (r), reserved bit clear (S), safe to copy (t)
@@ -81,11 +81,14 @@ def find_setup(png: bytes) -> tuple[dict, dict[str, Array]] | None:
 
 
 def _unpack(body: bytes) -> tuple[dict, dict[str, Array]]:
-    limit = FILE_BYTES.value
+    """The chunk's extras and arrays; inflated no further than one image's budget (a set-up
+    is a few bytes a vertex: the sample's is 9 MB), so a crafted chunk cannot fill memory."""
+    limit = IMAGE_BYTES.value
     inflate = zlib.decompressobj()
     data = inflate.decompress(body, limit + 1)
     if len(data) > limit or inflate.unconsumed_tail:
-        raise ValueError(f"the set-up chunk inflates past {limit:,} bytes")
+        raise ValueError(f"the set-up chunk inflates past {limit:,} bytes "
+                         f"(set {IMAGE_BYTES.setting} to allow more)")
     text, _, blob = data.partition(b"\n")
     header = json.loads(text)
     extras, specs = header["extras"], header["arrays"]
