@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from studio.core.files.png import SIGNATURE
 from studio.core.project.reader import load_project
@@ -223,11 +224,12 @@ def animate(g: Gltf, times: int, input_accessor: int | None = None,
                                           "output": output_accessor}]}]
 
 
-def png_rows(width: int, height: int, depth: int, colour: int) -> bytes:
+def png_rows(width: int, height: int, depth: int, colour: int, row_filter: int = 0) -> bytes:
     """A valid PNG of zeros, compressed a row at a time (an 8192² 16-bit RGBA image is 537 MB
-    raw and a few hundred kB here, built without holding the raw rows)."""
+    raw and a few hundred kB here, built without holding the raw rows); every row declares
+    ``row_filter`` (of zeros, any filter decodes to zeros)."""
     channels = {0: 1, 2: 3, 4: 2, 6: 4}[colour]
-    row = b"\0" * (1 + width * channels * depth // 8)
+    row = bytes([row_filter]) + b"\0" * (width * channels * depth // 8)
     pack = zlib.compressobj(9)
     idat = b"".join(pack.compress(row) for _ in range(height)) + pack.flush()
 
@@ -299,6 +301,17 @@ def test_a_png_inside_the_pixel_budget_decoding_to_half_a_gigabyte(tmp_path: Pat
     g, prim = face()
     textured(g, prim, png_rows(8192, 8192, 16, 6))  # 8192² RGBA at 16 bits: 512 MiB decoded
     refused(tmp_path, g, "WRINKLE_STUDIO_MAX_IMAGE_BYTES")
+
+
+@pytest.mark.parametrize("png", [(4096, 4096, 16, 6, 2), (8192, 4096, 8, 6, 4)],
+                         ids=["4096² RGBA 16-bit, Up", "8192×4096 RGBA 8-bit, Paeth"])
+def test_a_png_at_the_image_budget_is_read_in_bounded_memory(tmp_path: Path, png: tuple
+                                                             ) -> None:
+    """128 MiB decoded, the most one image may be: decoded, made a project and saved under
+    the memory limit (Pillow's 8-bit decoding and the Paeth filter once cost 3–6 copies)."""
+    g, prim = face()
+    textured(g, prim, png_rows(*png))
+    check_rule(new(tmp_path, g), 0)
 
 
 def test_an_11_mb_gltf_with_a_data_uri_is_read_in_little_memory(tmp_path: Path) -> None:

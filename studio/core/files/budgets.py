@@ -59,11 +59,14 @@ class Budget:
 IMAGE_PIXELS = Budget("MAX_IMAGE_PIXELS", 8192 * 8192, "pixels")
 TOTAL_IMAGE_BYTES = Budget("MAX_TOTAL_IMAGE_BYTES", 3 << 30, "bytes")
 # Decoded bytes of one image (width × height × channels × bytes a channel, from its header):
-# an 8K RGB texture at 8 bits, the largest a face scan ships. Pixels alone are not enough: an
-# 8192² RGBA image at 16 bits is 512 MB, decoded, and twice that while it is converted.
-IMAGE_BYTES = Budget("MAX_IMAGE_BYTES", 8192 * 8192 * 3, "bytes")
-# Decoded bytes of all the images one glTF file's face uses: two such textures.
-GLTF_IMAGE_BYTES = Budget("MAX_GLTF_IMAGE_BYTES", 2 * 8192 * 8192 * 3, "bytes")
+# 128 MiB, a 4096² RGBA map at 16 bits or an 8192 × 4096 RGBA one at 8. Pixels alone are not
+# enough: an 8192² RGBA image at 16 bits is 512 MiB decoded. An image costs about twice its
+# decoded size while it is decoded and converted, so 128 MiB keeps the studio under 500 MB; an
+# 8K RGB texture (192 MiB) needs this raised (and some 700 MB).
+IMAGE_BYTES = Budget("MAX_IMAGE_BYTES", 128 << 20, "bytes")
+# Decoded bytes of all the images one glTF file's face uses: a diffuse and a normal map at 4K
+# (RGBA, 8 bits), or one 16-bit map: each stays in memory until the project is made.
+GLTF_IMAGE_BYTES = Budget("MAX_GLTF_IMAGE_BYTES", 128 << 20, "bytes")
 # Numbers a glTF file's accessors decode to, counted from what the file declares before any is
 # read, every placed copy of a mesh and every use of a shared accessor counted again: each is
 # a float64 while the scene is placed, merged and welded (about three copies at the peak). A

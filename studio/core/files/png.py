@@ -15,7 +15,9 @@ them are undone by Pillow's C decoder, a few bytes of each pixel at a time
 from __future__ import annotations
 
 import io
+import itertools
 import struct
+import sys
 import zlib
 
 import numpy as np
@@ -40,11 +42,15 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
 
 
+_ENCODE_ROWS = 256  # rows filtered and compressed at a time
+
+
 def encode_png(image: Array, level: int = 6) -> bytes:
     """PNG bytes for an (H, W) or (H, W, 1–4) uint8/uint16 array; 16-bit stays 16-bit.
 
     Every row uses the Up filter: smooth maps (normals, masks) compress well with it and it is
-    cheap to apply and to undo with whole-array operations.
+    cheap to apply and to undo with whole-array operations. Rows are filtered and compressed
+    a block at a time, so a large map costs its compressed size, not two more copies of it.
     """
     image = np.asarray(image)
     if image.ndim == 2:
@@ -52,20 +58,27 @@ def encode_png(image: Array, level: int = 6) -> bytes:
     if image.ndim != 3 or image.shape[2] not in _COLOUR_TYPE or min(image.shape[:2]) < 1:
         raise PngError(f"cannot write an array of shape {image.shape} as a PNG image")
     if image.dtype == np.uint8:
-        depth, raw = 8, np.ascontiguousarray(image)
+        depth = 8
     elif image.dtype == np.uint16:
-        depth, raw = 16, np.ascontiguousarray(image, dtype=">u2")
+        depth = 16
     else:
         raise PngError(f"cannot write {image.dtype} pixels as a PNG image (8 or 16 bits only)")
     height, width, channels = image.shape
-    rows = raw.view(np.uint8).reshape(height, -1)
-    filtered = np.empty((height, rows.shape[1] + 1), dtype=np.uint8)
-    filtered[:, 0] = 2  # Up
-    filtered[0, 1:] = rows[0]
-    np.subtract(rows[1:], rows[:-1], out=filtered[1:, 1:])  # wraps modulo 256, as PNG wants
+    pack = zlib.compressobj(level)
+    parts, above = [], None
+    for start in range(0, height, _ENCODE_ROWS):  # a block at a time: no copy of the image
+        rows = np.ascontiguousarray(image[start:start + _ENCODE_ROWS],
+                                    ">u2" if depth == 16 else np.uint8)
+        rows = rows.view(np.uint8).reshape(len(rows), -1)
+        filtered = np.empty((len(rows), rows.shape[1] + 1), dtype=np.uint8)
+        filtered[:, 0] = 2  # Up
+        filtered[0, 1:] = rows[0] if above is None else rows[0] - above
+        np.subtract(rows[1:], rows[:-1], out=filtered[1:, 1:])  # wraps modulo 256, as PNG wants
+        parts.append(pack.compress(filtered))
+        above = rows[-1].copy()
+    parts.append(pack.flush())
     header = struct.pack(">IIBBBBB", width, height, depth, _COLOUR_TYPE[channels], 0, 0, 0)
-    return b"".join((SIGNATURE, _chunk(b"IHDR", header),
-                     _chunk(b"IDAT", zlib.compress(filtered.tobytes(), level)),
+    return b"".join((SIGNATURE, _chunk(b"IHDR", header), _chunk(b"IDAT", b"".join(parts)),
                      _chunk(b"IEND", b"")))
 
 
@@ -131,28 +144,34 @@ def _chunks(data: bytes) -> tuple[bytes, bytes]:
         pos = end + 4
 
 
-def _unfilter(raw: Array, bpp: int) -> Array:
-    """Undo PNG row filters: (h, 1 + stride) filtered bytes -> (h, stride) pixel bytes."""
-    kinds, data = raw[:, 0], raw[:, 1:]
+def _unfilter(kinds: Array, out: Array, bpp: int) -> None:
+    """Undo PNG row filters in place: ``out`` (h, stride) holds the filtered bytes of rows
+    whose filter types are ``kinds`` and ends with the pixel bytes.
+
+    In place because a decoded image can be a large share of the memory the studio is allowed:
+    a copy per step used to make a 16-bit 4096² image cost five times its size.
+    """
     if (kinds > 4).any():
         raise PngError(f"the PNG image uses an unknown row filter {int(kinds.max())}")
     if ((kinds == 3) | (kinds == 4)).any():  # in C: in numpy these take seconds on big images
         from studio.core.files.png_unfilter import unfilter_with_pillow
 
-        return unfilter_with_pillow(kinds, data, bpp)
-    h, stride = data.shape
-    out = data.copy()
+        unfilter_with_pillow(kinds, out, bpp, out)
+        return
+    h, stride = out.shape
     sub = kinds == 1
-    if sub.any():  # Sub: running sum along the row, per byte of the pixel
+    if sub.all():  # Sub: running sum along the row, per byte of the pixel
+        pixels = out.reshape(h, stride // bpp, bpp)
+        np.cumsum(pixels, axis=1, dtype=np.uint8, out=pixels)
+    elif sub.any():
         rows = out[sub].reshape(int(sub.sum()), stride // bpp, bpp)
         out[sub] = np.cumsum(rows, axis=1, dtype=np.uint8).reshape(-1, stride)
     up = kinds == 2
     if up.any():  # Up: running sum down the columns, restarting at each row not filtered Up
-        sums = np.zeros((h + 1, stride), dtype=np.uint8)
-        np.cumsum(out, axis=0, dtype=np.uint8, out=sums[1:])
-        start = np.maximum.accumulate(np.where(up, 0, np.arange(h)))
-        out = sums[1:] - sums[start]
-    return out
+        bounds = [0, *np.flatnonzero(~up).tolist(), h]
+        for start, end in itertools.pairwise(bounds):
+            if end - start > 1:
+                np.cumsum(out[start:end], axis=0, dtype=np.uint8, out=out[start:end])
 
 
 def decode_png(data: bytes, max_bytes: int = 1 << 31) -> Array:
@@ -190,21 +209,36 @@ def decode_png(data: bytes, max_bytes: int = 1 << 31) -> Array:
     pos = 0
     for x0, y0, dx, dy, pw, ph in passes:
         size = ph * (1 + pw * bpp)
-        rows = _unfilter(buffer[pos:pos + size].reshape(ph, 1 + pw * bpp), bpp)
-        view[y0::dy, x0::dx] = rows.reshape(ph, pw, bpp)
+        rows = buffer[pos:pos + size].reshape(ph, 1 + pw * bpp)
+        if interlace:
+            block = rows[:, 1:].copy()
+            _unfilter(rows[:, 0], block, bpp)
+            view[y0::dy, x0::dx] = block.reshape(ph, pw, bpp)
+        else:  # unfiltered where the pixels go: no copy of the image
+            pixels[:] = rows[:, 1:]
+            _unfilter(rows[:, 0], pixels, bpp)
         pos += size
-    image = pixels.view(">u2").astype(np.uint16) if depth == 16 else pixels
+    del buffer, raw
+    if depth == 16:  # big-endian samples, turned native in place
+        if sys.byteorder == "little":
+            pixels.view(np.uint16).byteswap(inplace=True)
+        image = pixels.view(np.uint16)
+    else:
+        image = pixels
     image = image.reshape(height, width, channels)
     return image[:, :, 0] if channels == 1 else image
 
 
 def read_png(data: bytes, max_bytes: int = 1 << 31) -> Array:
-    """Pixels of any PNG without loss: 16-bit images here, 8 bits or fewer through Pillow.
+    """Pixels of any PNG without loss: 8- and 16-bit images without a palette here, palettes
+    and fewer bits through Pillow.
 
     Palette images come back as RGB (RGBA with transparency), 1/2/4-bit greyscale as 8-bit.
+    Why not Pillow for 8 bits too: it holds RGB as four bytes a pixel and hands numpy a copy
+    assembled from pieces, three times the image at the peak; decoded here it is twice.
     """
     width, height, depth, colour, _ = png_header(data)
-    if depth == 16:
+    if depth == 16 or (depth == 8 and colour in _CHANNELS):
         return decode_png(data, max_bytes)
     channels = {3: 3}.get(colour, _CHANNELS.get(colour, 4))
     if width * height * channels > max_bytes:

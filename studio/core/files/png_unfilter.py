@@ -38,24 +38,42 @@ def _groups(bpp: int) -> list[int]:
     return sizes
 
 
-def unfilter_with_pillow(kinds: Array, data: Array, bpp: int) -> Array:
-    """(h, stride) filtered bytes (``kinds`` the per-row filter types) -> (h, stride) pixels."""
+_BAND_BYTES = 4 << 20  # filtered bytes handed to Pillow at a time
+
+
+def unfilter_with_pillow(kinds: Array, data: Array, bpp: int, out: Array | None = None
+                         ) -> Array:
+    """(h, stride) filtered bytes (``kinds`` the per-row filter types) -> (h, stride) pixels,
+    written into ``out`` when given (which may be ``data`` itself).
+
+    A band of rows at a time, each band's PNG starting with the row above it already
+    unfiltered (filter None) for its first row to refer to: the whole image at once cost six
+    copies of it, a large share of the memory the studio may use.
+    """
     from PIL import Image
 
     h, stride = data.shape
     w = stride // bpp
-    pixels = data.reshape(h, w, bpp)
-    out = np.empty((h, w, bpp), np.uint8)
-    start = 0
-    for size in _groups(bpp):
-        part = np.empty((h, 1 + w * size), np.uint8)
-        part[:, 0] = kinds
-        part[:, 1:] = pixels[:, :, start:start + size].reshape(h, w * size)
-        header = struct.pack(">IIBBBBB", w, h, 8, _MODES[size], 0, 0, 0)
-        png = b"".join((_SIGNATURE, _chunk(b"IHDR", header),
-                        _chunk(b"IDAT", zlib.compress(part.tobytes(), 0)), _chunk(b"IEND", b"")))
-        with Image.open(io.BytesIO(png), formats=["PNG"]) as img:
-            img.load()
-            out[:, :, start:start + size] = np.asarray(img).reshape(h, w, size)
-        start += size
-    return out.reshape(h, stride)
+    result = np.empty((h, stride), np.uint8) if out is None else out
+    source, target = data.reshape(h, w, bpp), result.reshape(h, w, bpp)
+    band = max(1, _BAND_BYTES // max(stride, 1))
+    for top in range(0, h, band):
+        bottom, above = min(h, top + band), int(top > 0)
+        start = 0
+        for size in _groups(bpp):
+            part = np.empty((bottom - top + above, 1 + w * size), np.uint8)
+            if above:  # the row above, unfiltered already: filter None
+                part[0, 0] = 0
+                part[0, 1:] = target[top - 1, :, start:start + size].reshape(w * size)
+            part[above:, 0] = kinds[top:bottom]
+            part[above:, 1:] = source[top:bottom, :, start:start + size].reshape(-1, w * size)
+            header = struct.pack(">IIBBBBB", w, len(part), 8, _MODES[size], 0, 0, 0)
+            png = b"".join((_SIGNATURE, _chunk(b"IHDR", header),
+                            _chunk(b"IDAT", zlib.compress(part.tobytes(), 0)),
+                            _chunk(b"IEND", b"")))
+            with Image.open(io.BytesIO(png), formats=["PNG"]) as img:
+                img.load()
+                rows = np.asarray(img).reshape(len(part), w, size)
+            target[top:bottom, :, start:start + size] = rows[above:]
+            start += size
+    return result
