@@ -279,6 +279,16 @@ def test_morph_targets_sharing_one_accessor_over_the_number_budget(tmp_path: Pat
     refused(tmp_path, g, "WRINKLE_STUDIO_MAX_GLTF_VALUES")
 
 
+def test_a_head_at_the_number_budget_is_read_in_bounded_memory(tmp_path: Path) -> None:
+    """30 000 vertices with 170 morph targets of their own: 15.6 million numbers, just inside
+    the budget, read, welded and saved under the memory limit (a hundred targets once took
+    485 MB: the welding sorted every vertex's offsets as one record)."""
+    g, _ = face(173, targets=170)
+    result = new(tmp_path, g)
+    check_rule(result, 0)
+    assert "170 morph targets" in result.stdout
+
+
 def test_a_studio_file_with_targets_sharing_one_accessor(tmp_path: Path) -> None:
     """The studio's own files are read by another path (extras.wrinkleStudio marks them, and
     any file can claim it): a thousand key poses made of one shared accessor are refused as

@@ -67,11 +67,12 @@ IMAGE_BYTES = Budget("MAX_IMAGE_BYTES", 128 << 20, "bytes")
 # Decoded bytes of all the images one glTF file's face uses: a diffuse and a normal map at 4K
 # (RGBA, 8 bits), or one 16-bit map: each stays in memory until the project is made.
 GLTF_IMAGE_BYTES = Budget("MAX_GLTF_IMAGE_BYTES", 128 << 20, "bytes")
-# Numbers a glTF file's accessors decode to, counted from what the file declares before any is
-# read, every placed copy of a mesh and every use of a shared accessor counted again: each is
-# a float64 while the scene is placed, merged and welded (about three copies at the peak). A
-# 30 000-vertex head with 300 morph targets is 27 million; a hostile file claims billions.
-GLTF_VALUES = Budget("MAX_GLTF_VALUES", 32_000_000, "numbers")
+# Numbers a glTF file's accessors are read as, counted from what the file declares before any
+# is read, every placed copy of a mesh and every use of a shared accessor counted again: each
+# is a float64 while the scene is placed and welded, and a key pose's copy is made of it, so a
+# file at the limit costs about 350 MB. 16 million is a 30 000-vertex head with 170 morph
+# targets (ARKit's 52 with room to spare); a hostile file claims billions.
+GLTF_VALUES = Budget("MAX_GLTF_VALUES", 16_000_000, "numbers")
 # Keys of an animation read from a file (samples × animated key poses): each is a Python object
 # in memory and some 70 bytes of project.json, whose reader takes 64 MB.
 TIMELINE_KEYS = Budget("MAX_TIMELINE_KEYS", 500_000, "keys")

@@ -71,6 +71,7 @@ class MeshNode:
                        if np.abs(o).max(initial=0.0) > 0.0})
 
 
+_IDENTITY = np.eye(4)
 _SHOWING = frozenset({"mesh", "matrix", "translation", "rotation", "scale"})
 
 
@@ -297,11 +298,16 @@ def _primitive(g: _Gltf, prim: dict, matrix: Array, target_names: list[str]) -> 
 def _placed(g: _Gltf, local: Array, matrix: Array, what: str, point: bool) -> Array:
     """``local`` rows moved by the node's ``matrix`` (points, or offsets without its
     translation), refused in one line when the product leaves the range the studio computes
-    in (numpy would warn of the overflow and carry infinities on)."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        out = local @ matrix[:3, :3].T
-        if point:
-            out += matrix[:3, 3]
+    in (numpy would warn of the overflow and carry infinities on). Unmoved rows are the
+    accessor's own (read-only) values: most meshes sit at the origin, and a copy of every
+    morph target would double what the file costs."""
+    if np.array_equal(matrix, _IDENTITY):
+        out = local
+    else:
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = local @ matrix[:3, :3].T
+            if point:
+                out += matrix[:3, 3]
     problem = coordinate_problem(out, f"{what}, placed in the scene,")
     if problem:
         raise MeshError(problem, g.path)
