@@ -314,7 +314,7 @@ def test_a_png_inside_the_pixel_budget_decoding_to_half_a_gigabyte(tmp_path: Pat
 
 
 @pytest.mark.parametrize("png", [(4096, 4096, 16, 6, 2), (8192, 4096, 8, 6, 4)],
-                         ids=["4096² RGBA 16-bit, Up", "8192×4096 RGBA 8-bit, Paeth"])
+                         ids=["4096x4096-RGBA-16bit-Up", "8192x4096-RGBA-8bit-Paeth"])
 def test_a_png_at_the_image_budget_is_read_in_bounded_memory(tmp_path: Path, png: tuple
                                                              ) -> None:
     """128 MiB decoded, the most one image may be: decoded, made a project and saved under
