@@ -161,7 +161,7 @@ def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str
     if animated is not None and merged.poses:
         try:
             timeline = timeline_from_animation(g.doc, animated.node, animated.target_names,
-                                               g.accessor)
+                                               g.accessor, g.path)
         except (KeyError, IndexError, TypeError, ValueError) as exc:
             raise MeshError(f"the morph-weight animation is malformed ({exc})",
                             g.path) from None
@@ -252,7 +252,7 @@ def _animated_timeline(g: _Gltf, mesh_spec: dict, pose_names: list[str]) -> Time
                  if isinstance(n, dict) and n.get("mesh") == index), None)
     if node is None or not pose_names:
         return None
-    return timeline_from_animation(g.doc, node, pose_names, g.accessor)
+    return timeline_from_animation(g.doc, node, pose_names, g.accessor, g.path)
 
 
 def _mesh_with_weld(g: _Gltf, positions: Array, triangles: Array, uvs: Array,
