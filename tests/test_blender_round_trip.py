@@ -32,16 +32,22 @@ POSES = ["browInnerUp_L", "browDown_L", "mouthSmile_L", "eyeSquint_L", "jawOpen"
 JUDGED = "browInnerUp_L"
 
 
-@pytest.fixture(scope="module")
-def round_trip(tmp_path_factory) -> tuple[Project, dict[str, Path]]:
+def set_up_head() -> Project:
     """The ICT head with five poses set up as ``new --auto`` does (eyes, lashes and teeth not
-    face, seven UDIM tiles, three wrinkled maps), exported, and Blender's two re-exports."""
+    face, seven UDIM tiles, three wrinkled maps)."""
     from studio.core.project.ict_head import load_ict_head
     from studio.core.setup.auto_setup import auto_start
     from studio.core.setup.face_frame import face_frame, face_locator
 
     project = load_ict_head(poses=POSES)
     auto_start(project, locate=face_locator(face_frame(project)))
+    return project
+
+
+@pytest.fixture(scope="module")
+def round_trip(tmp_path_factory) -> tuple[Project, dict[str, Path]]:
+    """The set-up head exported, and Blender's two re-exports of it."""
+    project = set_up_head()
     folder = tmp_path_factory.mktemp("round_trip")
     save_gltf(project, folder / "head.glb")
     files = {"default": folder / "default.glb", "extras": folder / "extras.glb"}

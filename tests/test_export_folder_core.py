@@ -121,7 +121,8 @@ def relative(folder: Path, written: list[Path]) -> list[str]:
 
 def test_every_file_written_is_listed_in_order(udim_export: tuple[Path, list[Path]]) -> None:
     """The glb, each mask and its two tile copies, the packed masks (five areas: two images),
-    the wrinkled maps, the neutral map, the sheet and the shaders; nothing else is there."""
+    the wrinkled maps, the neutral map, the Blender script, the sheet and the shaders; nothing
+    else is there."""
     folder, written = udim_export
     expected = ["face.glb"]
     for i, name in enumerate(SAFE_NAMES):
@@ -130,7 +131,8 @@ def test_every_file_written_is_listed_in_order(udim_export: tuple[Path, list[Pat
         expected += [f"masks/packed_0{k}{tile}.png" for tile in ("", ".1001", ".1002")]
     for stem in ("wrinkled_0_forehead", "wrinkled_1_smile_lines"):
         expected += [f"maps/{stem}{tile}.png" for tile in ("", ".1001", ".1002")]
-    expected += ["maps/neutral.png", "wrinkles.json", *(f"shaders/{s}" for s in SHADERS)]
+    expected += ["maps/neutral.png", "blender_wrinkles.py", "wrinkles.json",
+                 *(f"shaders/{s}" for s in SHADERS)]
     assert relative(folder, written) == expected
     on_disk = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
     assert on_disk == sorted(expected)
@@ -284,7 +286,7 @@ def test_an_8_bit_export_of_a_face_on_one_tile(tmp_path: Path) -> None:
     names = relative(folder, written)
     assert not [name for name in names if ".100" in name]
     assert names[:3] == ["face.glb", "masks/00_brow_L_R.png", "masks/01_smile.png"]
-    assert len(names) == 1 + 5 + 2 + 2 + 1 + 1 + 8
+    assert len(names) == 1 + 5 + 2 + 2 + 1 + 1 + 1 + 8
     mask = read_image(folder / "masks" / "04_chin.png")
     assert mask.dtype == np.uint8 and np.array_equal(mask, levels(4) * 51)
     sheet = json.loads((folder / "wrinkles.json").read_text(encoding="utf-8"))

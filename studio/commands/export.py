@@ -13,7 +13,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("project", help="the .wrinkle project")
     target = p.add_mutually_exclusive_group(required=True)
     target.add_argument("--gltf", help="binary glTF file to write (.glb)")
-    target.add_argument("--folder", help="folder for face.glb, mask PNGs, wrinkles.json, GLSL")
+    target.add_argument("--folder", help="folder for face.glb, mask PNGs, wrinkles.json, GLSL "
+                                          "and blender_wrinkles.py (technique 1 in Blender)")
     p.add_argument("--bits", type=int, choices=(8, 16), default=16, help="per-area mask depth")
     p.add_argument("--layout", choices=list(LAYOUTS),
                    help="with --folder: repack masks and wrinkle maps the way that engine's "

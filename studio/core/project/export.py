@@ -1,7 +1,7 @@
 """Engine-ready output besides the glTF: masks as PNGs (one per area, and four areas packed into
 the RGBA channels of one image, as engines sample them), the wrinkled normal maps, the pose →
-area links with their response curves and each area's wrinkled map as JSON, and the GLSL of
-both techniques."""
+area links with their response curves and each area's wrinkled map as JSON, the GLSL of both
+techniques, and a Blender script building technique 1 driven by the shape keys."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ import numpy as np
 from studio.core.files.atomic_write import write_atomic
 from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
+from studio.core.project.blender_material import SCRIPT, blender_script, blender_setup
 from studio.core.project.gltf import save_gltf, wdv_attributes
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import curves_to_dict
@@ -89,8 +90,9 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
     save_gltf(project, written[0], tangent_frame)
     areas = project.influence.areas
     layout = []
-    for i, area in enumerate(areas):
-        path = folder / "masks" / f"{i:02d}_{safe_name(area.name)}.png"
+    mask_files = [f"masks/{i:02d}_{safe_name(a.name)}.png" for i, a in enumerate(areas)]
+    for area, name in zip(areas, mask_files, strict=True):
+        path = folder / name
         image = quantise(area.mask, bits)
         write_png(path, image)
         written += [path, *tile_copies(project, path, image)]
@@ -108,6 +110,11 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
         maps.append({"name": name, "index": i, "image": f"maps/{path.name}"})
     path = folder / "maps" / "neutral.png"
     write_png(path, textures.normal_neutral)
+    written.append(path)
+    path = folder / SCRIPT  # technique 1 in Blender, driven by the shape keys
+    setup = blender_setup(project, written[0].name, mask_files, [m["image"] for m in maps],
+                          "maps/neutral.png")
+    write_atomic(path, blender_script(setup), what="Blender script")
     written.append(path)
     links = {
         "wrinkle_maps": maps,

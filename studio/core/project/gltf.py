@@ -63,6 +63,9 @@ from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 
 Array = np.ndarray
 EXTRAS_KEY = "wrinkleStudio"
+__all__ = ["BIN_CHUNK", "JSON_CHUNK", "VERTEX_DATA", "_Gltf", "gltf_parts", "image_names",
+           "load_gltf", "load_weight_animation", "save_gltf", "vertex_attributes",
+           "wdv_attributes"]
 # The welded vertex number, 1 on vertices never wrinkled, the UDIM tile: one VEC3 per vertex
 VERTEX_DATA = "_WELD_NOTFACE_TILE"
 OLD_WELD = "_WELD"  # the older layout's scalar attributes (files written before the VEC3s)
@@ -72,8 +75,6 @@ def wdv_attributes(n: int) -> tuple[str, str]:
     """The two VEC3 attributes of technique-2 area ``n``: its directions, and (length, painted
     cone angle in degrees — 0 the area's own —, 1 where the area's cones are painted)."""
     return f"_WRINKLE_DIR_{n}", f"_WRINKLE_LEN_CONE_{n}"
-__all__ = ["BIN_CHUNK", "JSON_CHUNK", "VERTEX_DATA", "_Gltf", "gltf_parts", "load_gltf",
-           "load_weight_animation", "save_gltf", "vertex_attributes", "wdv_attributes"]
 
 
 def _first_occurrence(weld: Array, n_welded: int) -> Array:
@@ -503,6 +504,15 @@ def vertex_attributes(project: Project) -> dict[str, Array]:
     return out
 
 
+def image_names(project: Project) -> tuple[list[str], list[str]]:
+    """The names the export gives the wrinkled maps' and the masks' images. The studio's extras
+    (and the Blender script, core/project/blender_material.py) refer to images by these: other
+    tools keep names and renumber images."""
+    return (["normal_wrinkled", *(f"wrinkled: {name}"
+                                  for name in project.textures.wrinkle_map_names[1:])],
+            [f"mask: {a.name}" for a in project.influence.areas])
+
+
 def _studio_extras(project: Project, frame: str, map_images: list[str],
                    mask_images: list[str]) -> dict:
     """``extras.wrinkleStudio``: everything the studio authored that glTF has no place for,
@@ -550,9 +560,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
     tiles = None if project.uv_tiles is None else project.uv_tiles.vertex_tile
     attributes[STUDIO_UV] = b.accessor(studio_uvs(weld, tiles), "VEC2")
     tex = project.textures
-    # images are named, and the studio's extras refer to them by name: other tools renumber
-    map_images = ["normal_wrinkled", *(f"wrinkled: {name}" for name in tex.wrinkle_map_names[1:])]
-    mask_images = [f"mask: {a.name}" for a in project.influence.areas]
+    map_images, mask_images = image_names(project)
     studio = _studio_extras(project, frame, map_images, mask_images)
     images: list[dict] = []
 
