@@ -466,6 +466,23 @@ def test_a_missing_image_is_called_an_image(tmp_path: Path) -> None:
     assert "buffer" not in line
 
 
+def test_a_percent_encoded_uri_names_its_file(tmp_path: Path) -> None:
+    """glTF URIs are URIs: "my%20face.bin" is the file "my face.bin" beside the glTF (and an
+    encoded "%2e%2e/" is still refused as outside its folder)."""
+    g, _ = face()
+    (tmp_path / "my face.bin").write_bytes(bytes(g.blob))
+    g.write(tmp_path / "face.gltf")
+    doc = json.loads((tmp_path / "face.gltf").read_text())
+    doc["buffers"][0]["uri"] = "my%20face.bin"
+    (tmp_path / "face.gltf").write_text(json.dumps(doc))
+    check_rule(run_cli(["new", "--gltf", "face.gltf", "-o", "out.wrinkle"], tmp_path), 0)
+    doc["buffers"][0]["uri"] = "%2e%2e/my%20face.bin"
+    (tmp_path / "face.gltf").write_text(json.dumps(doc))
+    (tmp_path / "out.wrinkle").unlink()
+    check_rule(run_cli(["new", "--gltf", "face.gltf", "-o", "out.wrinkle"], tmp_path), 2,
+               "refers outside the file's folder: '%2e%2e/my%20face.bin'")
+
+
 def test_a_file_uri_is_an_unsupported_scheme(tmp_path: Path) -> None:
     g, _ = face()
     g.doc["buffers"] = [{"uri": "file:///etc/hostname"}]

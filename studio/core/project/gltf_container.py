@@ -17,6 +17,7 @@ import json
 import re
 import struct
 from pathlib import Path
+from urllib.parse import unquote
 
 import numpy as np
 
@@ -186,7 +187,7 @@ class _Gltf:
             raise MeshError(f"{what}'s uri '{shown(uri)}' has the unsupported URI scheme "
                             f"'{shown(uri.split(':', 1)[0])}:' (a glTF names its files by paths "
                             "relative to itself, or embeds them as data: URIs)", self.path)
-        target = (self.path.parent / uri).resolve()
+        target = (self.path.parent / unquote(uri)).resolve()  # a URI: "my%20face.bin"
         if self.path.parent.resolve() not in target.parents:
             raise MeshError(f"{what} refers outside the file's folder: '{shown(uri)}'",
                             self.path)
