@@ -399,6 +399,21 @@ def test_node_transforms_overflowing_float64(tmp_path: Path) -> None:
     refused(tmp_path, g, "node 0's place in the scene overflows")
 
 
+def test_a_texture_transform_overflowing_the_uvs(tmp_path: Path) -> None:
+    g, prim = face()
+    textured(g, prim, png_rows(4, 4, 8, 2))
+    g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        "KHR_texture_transform": {"scale": [1e308, 1e308]}}
+    refused(tmp_path, g, "TEXCOORD_0 (through its KHR_texture_transform) has the texture "
+            "coordinate (0, 1e+308) at vertex 0")
+
+
+def test_uvs_beyond_32_bit_floats(tmp_path: Path) -> None:
+    g, prim = face()
+    prim["attributes"]["TEXCOORD_0"] = g.accessor(np.full((64, 2), 3e38, np.float32), "VEC2")
+    refused(tmp_path, g, "TEXCOORD_0 has the texture coordinate (3e+38, 3e+38) at vertex 0")
+
+
 HOSTILE = "face\nTraceback (most recent call last):\x1b[2J\x1b[31m\u202e\r"
 
 
@@ -455,6 +470,21 @@ def test_a_node_cycle_without_a_scene_says_so(tmp_path: Path) -> None:
     g.doc["nodes"] = [{"mesh": 0, "children": [1]}, {"children": [0]}]
     line = refused(tmp_path, g, "cycle")
     assert "texture coordinates" not in line
+
+
+def test_a_mesh_of_points_is_no_triangle_mesh(tmp_path: Path) -> None:
+    g, prim = face()
+    prim["mode"] = 0  # points, with UVs
+    line = refused(tmp_path, g, "the file holds no triangle mesh")
+    assert "texture coordinates" not in line
+
+
+def test_a_frame_number_of_thousands_of_digits(tmp_path: Path) -> None:
+    g, _ = face()
+    animate(g, 2)
+    g.doc["animations"][0]["extras"] = {"wrinkleStudio": {"end": "9" * 5000}}
+    line = refused(tmp_path, g, "is not a frame number")
+    assert "sys.set_int_max_str_digits" not in line
 
 
 def test_a_missing_image_is_called_an_image(tmp_path: Path) -> None:

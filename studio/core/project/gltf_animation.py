@@ -114,6 +114,14 @@ def timeline_from_animation(doc: dict, node_of_mesh: int, pose_names: Sequence[s
     return None
 
 
+def _frame(value: object) -> int:
+    """A frame number from the studio's extras (a number, or its text), refusing text of
+    thousands of digits with plain words (``int`` would suggest changing a Python setting)."""
+    if len(str(value)) > 40:
+        raise ValueError(f"the frame number {str(value)[:20]}… is not a frame number")
+    return int(value)  # type: ignore[call-overload]
+
+
 def _timeline(times: Array, values: Array, interpolation: str, pose_names: Sequence[str],
               studio: dict, source: object = None) -> Timeline:
     n, p = len(times), len(pose_names)
@@ -123,7 +131,7 @@ def _timeline(times: Array, values: Array, interpolation: str, pose_names: Seque
                          "key poses")
     weights = values.reshape(n, per_key, p)[:, per_key // 2]
     fps = float(studio.get("fps", 24.0))
-    start = int(studio.get("start", 0))
+    start = _frame(studio.get("start", 0))
     if not (0 < fps <= 1000 and abs(start) <= FRAMES.value):
         raise ValueError("the animation's frame rate or range is invalid")
     with np.errstate(over="ignore", invalid="ignore"):  # t = 3e38 s: checked just below
@@ -138,7 +146,7 @@ def _timeline(times: Array, values: Array, interpolation: str, pose_names: Seque
     tracks = [Track(name, [Key(float(f), float(v), mode)
                            for f, v in zip(frames.tolist(), weights[:, j].tolist(), strict=True)])
               for j, name in enumerate(pose_names)]
-    end = int(studio.get("end", max(int(np.ceil(frames.max())), start + 1)))
+    end = _frame(studio.get("end", max(int(np.ceil(frames.max())), start + 1)))
     FRAMES.check(end - start, "the morph-weight animation's frame range", source, MeshError)
     timeline = Timeline(tracks, fps, start, end)
     if not (timeline.fps > 0 and timeline.end > timeline.start):

@@ -72,6 +72,9 @@ class MeshNode:
 
 
 _IDENTITY = np.eye(4)
+# UVs beyond this are damage, not a layout: UDIM tiles reach 10 across, tiling textures some
+# hundreds; past it the atlas's arithmetic in 32 bits loses the texel and can overflow.
+UV_LIMIT = 1e6
 _SHOWING = frozenset({"mesh", "matrix", "translation", "rotation", "scale"})
 
 
@@ -248,7 +251,9 @@ def scene_meshes(g: _Gltf) -> list[MeshNode]:
         return out
     if not placed and _list(g, g.doc, "meshes"):
         raise MeshError("the scene shows no mesh (none of its nodes places one)", g.path)
-    if any(isinstance(p, dict) and "POSITION" in p.get("attributes", {})
+    if any(isinstance(p, dict) and isinstance(p.get("attributes"), dict)
+           and "POSITION" in p["attributes"] and p.get("mode", TRIANGLES) in (TRIANGLES, STRIP,
+                                                                              FAN)
            for _, node, _ in placed for p in _list(g, _item(g, "meshes", node["mesh"]),
                                                     "primitives")):
         raise MeshError("the mesh has no texture coordinates (TEXCOORD_0)", g.path)
@@ -342,11 +347,19 @@ def _uvs(g: _Gltf, attrs: dict, info: dict, n: int) -> Array:
             offset = np.array(transform.get("offset", (0.0, 0.0)), np.float64).reshape(2)
             angle = float(transform.get("rotation", 0.0))
             scale = np.array(transform.get("scale", (1.0, 1.0)), np.float64).reshape(2)
-        except (TypeError, ValueError) as exc:
+        except (TypeError, ValueError, OverflowError) as exc:
             raise MeshError(f"a KHR_texture_transform is malformed ({exc})", g.path) from None
-        c, s = np.cos(angle), np.sin(angle)
-        rotation = np.array([[c, s], [-s, c]])  # the extension's matrix, rows as written
-        uvs = (uvs * scale) @ rotation.T + offset
+        with np.errstate(over="ignore", invalid="ignore"):  # checked just below
+            c, s = np.cos(angle), np.sin(angle)
+            rotation = np.array([[c, s], [-s, c]])  # the extension's matrix, rows as written
+            uvs = (uvs * scale) @ rotation.T + offset
+    finite = np.isfinite(uvs).all(axis=1) & (np.abs(uvs) <= UV_LIMIT).all(axis=1)
+    if not finite.all():
+        v = int(np.argmin(finite))
+        through = " (through its KHR_texture_transform)" if transform else ""
+        raise MeshError(f"{key}{through} has the texture coordinate ({uvs[v, 0]:.3g}, "
+                        f"{uvs[v, 1]:.3g}) at vertex {v}: UVs past {UV_LIMIT:.0e} (a texture "
+                        "repeated a million times) are taken for damage", g.path)
     return uvs * [1.0, -1.0] + [0.0, 1.0]
 
 
