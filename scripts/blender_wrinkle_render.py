@@ -60,6 +60,10 @@ def main() -> int:
     scene.cycles.seed = 1
     scene.render.resolution_x = scene.render.resolution_y = args.size
     scene.render.image_settings.file_format = "PNG"
+    # the timeline came in as an action on the shape keys: it would set them every frame
+    face.data.shape_keys.animation_data_clear()
+    for block in face.data.shape_keys.key_blocks:  # and left its values at the first frame's
+        block.value = 0.0
     key = face.data.shape_keys.key_blocks[args.pose]
     args.out.mkdir(parents=True, exist_ok=True)
     activations = {}
