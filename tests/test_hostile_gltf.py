@@ -582,6 +582,17 @@ def placing_seconds(tmp_path: Path, g: Gltf) -> float:
     return seconds
 
 
+def test_two_million_root_nodes_without_a_scene(tmp_path: Path) -> None:
+    """Just inside the JSON's container budget: every node a root. The roots are walked one
+    at a time (a list of two million of them with a matrix each took 480 MB)."""
+    g, _ = face()
+    del g.doc["scene"], g.doc["scenes"]
+    g.doc["nodes"] += [{}] * 1_990_000
+    result = new(tmp_path, g)
+    check_rule(result, 0)
+    assert result.peak_mb < 300
+
+
 def test_200000_empty_nodes(tmp_path: Path) -> None:
     assert placing_seconds(tmp_path, empty_nodes()) < PLACING_SECONDS
     check_rule(new(tmp_path, empty_nodes()), 0)

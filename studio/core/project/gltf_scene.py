@@ -10,6 +10,7 @@ Positions keep the file's units and axes; the studio finds the face's own frame 
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -127,20 +128,20 @@ def local_matrices(g: _Gltf, nodes: list, indices: list[int]) -> Array:
     return out
 
 
-def _roots(g: _Gltf, nodes: list) -> list[int]:
+def _roots(g: _Gltf, nodes: list) -> Iterable[object]:
     """The nodes of the scene shown (``scene``, else the first), or every node no other node
-    lists as a child when the file names no scene."""
+    lists as a child when the file names no scene (given one at a time: a file can hold two
+    million of them)."""
     scenes = _list(g, g.doc, "scenes")
     if scenes:
         scene = _item(g, "scenes", g.doc.get("scene", 0), scenes)
-        return list(_list(g, scene, "nodes"))
+        return _list(g, scene, "nodes")
     children = {c for n in nodes if isinstance(n, dict) for c in n.get("children", [])
-                if _whole(c)}
-    roots = [i for i in range(len(nodes)) if i not in children]
-    if not roots:
+                if _whole(c) and c < len(nodes)}
+    if len(children) == len(nodes):
         raise MeshError("the file names no scene, and its nodes form a cycle (every node is "
                         "another's child), so no node is a root to show", g.path)
-    return roots
+    return (i for i in range(len(nodes)) if i not in children)
 
 
 def _walk(g: _Gltf, nodes: list) -> tuple[list[int], list[int]]:
@@ -150,26 +151,27 @@ def _walk(g: _Gltf, nodes: list) -> tuple[list[int], list[int]]:
     parents) is refused."""
     kept: list[int] = []
     above: list[int] = []
-    stack = [(i, -1) for i in reversed(_roots(g, nodes))]
     count = len(nodes)
     seen = bytearray(count)
-    while stack:
-        index, parent = stack.pop()
-        node = nodes[index] if type(index) is int and 0 <= index < count else None
-        if type(node) is not dict:
-            _item(g, "nodes", index, nodes)  # says what is wrong with the reference
-        if seen[index]:
-            raise MeshError(f"node {index} is its own ancestor or has two parents", g.path)
-        seen[index] = 1
-        if not node.keys().isdisjoint(_SHOWING):
-            kept.append(index)
-            above.append(parent)
-            parent = len(kept) - 1
-        children = node.get("children")
-        if children:
-            if not isinstance(children, list):
-                raise MeshError("'children' is not a JSON list", g.path)
-            stack.extend([(c, parent) for c in reversed(children)])
+    for root in _roots(g, nodes):  # each root's tree in turn: the stack holds one path's
+        stack = [(root, -1)]
+        while stack:
+            index, parent = stack.pop()
+            node = nodes[index] if type(index) is int and 0 <= index < count else None
+            if type(node) is not dict:
+                _item(g, "nodes", index, nodes)  # says what is wrong with the reference
+            if seen[index]:
+                raise MeshError(f"node {index} is its own ancestor or has two parents", g.path)
+            seen[index] = 1
+            if not node.keys().isdisjoint(_SHOWING):
+                kept.append(index)
+                above.append(parent)
+                parent = len(kept) - 1
+            children = node.get("children")
+            if children:
+                if not isinstance(children, list):
+                    raise MeshError("'children' is not a JSON list", g.path)
+                stack.extend([(c, parent) for c in reversed(children)])
     return kept, above
 
 
