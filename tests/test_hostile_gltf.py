@@ -546,6 +546,12 @@ def test_unsigned_byte_positions_need_mesh_quantization(tmp_path: Path) -> None:
     refused(tmp_path, file(False), "POSITION (accessor 3) is stored as unsigned bytes, which "
             "glTF allows only in a file that declares KHR_mesh_quantization")
     check_rule(new(tmp_path, file(True)), 0)
+    (tmp_path / "out.wrinkle").unlink()
+    g, prim = face()  # a morph target's offsets too
+    prim["targets"][0]["POSITION"] = g.accessor(np.zeros((64, 4), np.int8), "VEC3", 5120)
+    g.doc["bufferViews"][-1]["byteStride"] = 4
+    refused(tmp_path, g, "morph target 'pose0' (accessor 4) is stored as signed bytes, which "
+            "glTF allows only in a file that declares KHR_mesh_quantization")
 
 
 # --- 7. speed: scenes of many nodes cost microseconds a node ------------------------------------

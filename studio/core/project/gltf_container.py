@@ -319,22 +319,25 @@ class _Gltf:
                             self.path)
         return self.accessor(index)
 
-    def attribute(self, index: int, semantic: str, kinds: tuple[str, ...]) -> Array:
-        """A vertex attribute (POSITION, TEXCOORD_n, a morph target's POSITION …), refusing
-        component types glTF does not allow for it: integer positions, or integer UVs that are
-        not normalized, are only valid in a file that declares KHR_mesh_quantization (a reader
-        that took them would place a face of unsigned bytes 0–255 units wide)."""
+    def attribute(self, index: int, semantic: str, kinds: tuple[str, ...],
+                  what: str | None = None) -> Array:
+        """A vertex attribute (POSITION, TEXCOORD_n, a morph target's POSITION …; ``what``
+        names it in messages, by default ``semantic``), refusing component types glTF does not
+        allow for it: integer positions, or integer UVs that are not normalized, are only valid
+        in a file that declares KHR_mesh_quantization (a reader that took them would place a
+        face of unsigned bytes 0–255 units wide)."""
+        what = what or semantic
         base = semantic.split("_")[0] if semantic.startswith("TEXCOORD_") else semantic
         allowed = FLOAT_ATTRIBUTES.get(base)
         acc = _item(self, "accessors", index)
         kind = acc.get("componentType")
         if (allowed is not None and kind != 5126 and QUANTIZATION not in self.extensions_used
                 and not (kind in allowed and acc.get("normalized"))):
-            raise MeshError(f"{semantic} (accessor {index}) is stored as "
+            raise MeshError(f"{what} (accessor {index}) is stored as "
                             f"{_COMPONENT_WORDS.get(kind, shown(repr(kind)))}"
                             f"{' (normalized)' if acc.get('normalized') else ''}, which glTF "
                             f"allows only in a file that declares {QUANTIZATION}", self.path)
-        return self.typed(index, kinds, semantic)
+        return self.typed(index, kinds, what)
 
     @property
     def extensions_used(self) -> list:

@@ -293,7 +293,7 @@ def _primitive(g: _Gltf, prim: dict, matrix: Array, target_names: list[str]) -> 
         if "POSITION" not in target:
             continue
         name = target_names[i]
-        moved = g.attribute(target["POSITION"], f"morph target '{name}'", ("VEC3",))
+        moved = g.attribute(target["POSITION"], "POSITION", ("VEC3",), f"morph target '{name}'")
         if len(moved) != n:  # numpy would broadcast a single offset silently
             raise MeshError(f"morph target '{name}' moves {len(moved)} vertices, the mesh has "
                             f"{n}", g.path)
