@@ -5,10 +5,11 @@
 
 Needs the ``bpy`` package (the test extra). For each file it imports into an empty scene and
 prints one JSON line (after ``MARK``): whether the import worked (and Blender's error if not),
-each mesh object's vertices, shape keys (name, and every key's coordinates in glTF axes, Y up, when
-``--keys`` is given), UV layers (each loop's UV), materials with their image names, custom
-attributes and the scene's actions. With ``--export`` it then writes what it imported back out
-with Blender's default glTF options (``--extras``: with custom properties too).
+each mesh object's vertices, shape keys, UV layers, materials with their image names, custom
+attributes and the scene's actions; with ``--keys`` also every shape key's coordinates (in glTF
+axes, Y up), each loop's UV and each shape key's keyframe values. With ``--export`` it then
+writes what it imported back out with Blender's default glTF options (``--extras``: with custom
+properties too).
 
 Why a script run in a subprocess: importing bpy loads all of Blender into the process (and a
 crash inside it must not take the test run with it), and each file wants a fresh scene.
@@ -83,7 +84,24 @@ def import_file(path: str, keys: bool) -> dict:
     meshes = [_mesh_report(o, keys) for o in bpy.context.scene.objects if o.type == "MESH"]
     return {"file": path, "ok": "FINISHED" in result, "meshes": meshes,
             "actions": [a.name for a in bpy.data.actions],
+            "keyed": _keyed_values(bpy) if keys else None,
             "images": sorted(i.name for i in bpy.data.images)}
+
+
+def _keyed_values(bpy) -> dict[str, list[float]]:
+    """Each shape key's keyframe values in the imported actions, in frame order."""
+    out = {}
+    for action in bpy.data.actions:
+        curves = getattr(action, "fcurves", None)
+        if curves is None:  # Blender 5's layered actions: the curves live in channelbags
+            curves = [c for layer in action.layers for strip in layer.strips
+                      for bag in strip.channelbags for c in bag.fcurves]
+        for curve in curves:
+            path = curve.data_path
+            if path.startswith('key_blocks["') and path.endswith('"].value'):
+                points = sorted((k.co[0], k.co[1]) for k in curve.keyframe_points)
+                out[path[len('key_blocks["'):-len('"].value')]] = [v for _, v in points]
+    return out
 
 
 def export_file(path: str, extras: bool) -> None:

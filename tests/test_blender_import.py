@@ -1,6 +1,6 @@
 """Stock Blender (the ``bpy`` package, 4.5 LTS) imports every kind of glTF export: the poses as
 shape keys at the project's positions, the UVs, the skin material with its maps, the studio's
-custom attributes and the timeline as an action.
+custom attributes and the timeline as an action keyed with its weights.
 
 Blender's importer (4.2 to 5.1, glTF-Blender-IO #2658) failed on every export while its custom
 ``_`` attributes mixed VEC3 and SCALAR types; they are all VEC3 now. bpy runs in a subprocess
@@ -21,7 +21,7 @@ import pytest
 
 from studio.core.animation.timeline import Timeline, sequence_all_poses
 from studio.core.project.export import export_folder
-from studio.core.project.gltf import save_gltf, vertex_attributes
+from studio.core.project.gltf import _Gltf, save_gltf, vertex_attributes
 from studio.core.project.model import Project
 from studio.core.project.sample import make_test_face
 from tests.test_export_folder_core import tiny_project
@@ -98,6 +98,16 @@ def check_import(project: Project, report: dict, positions: bool = True) -> None
     assert mesh["materials"] == [{"name": "skin", "images": ["diffuse", "normal_neutral"]}]
     assert mesh["attributes"] == sorted(vertex_attributes(project))
     assert report["actions"] == (["timeline"] if project.timeline.has_keys else [])
+    if positions and project.timeline.has_keys:  # the timeline's weights, key for key
+        g = _Gltf(Path(report["file"]))
+        timeline = project.timeline
+        times = g.accessor(g.doc["animations"][0]["samplers"][0]["input"]).ravel()
+        frames = times * timeline.fps + timeline.start
+        assert list(report["keyed"]) == [p.name for p in project.poses]
+        for name, values in report["keyed"].items():
+            want = timeline.track(name).values_at(frames)
+            np.testing.assert_allclose(values, want, atol=1e-6, err_msg=name)
+            assert np.ptp(want) > 0.5  # the pose moves
 
 
 def test_blender_imports_every_kind_of_export(exports):
