@@ -239,3 +239,29 @@ def test_a_damaged_or_swollen_set_up_chunk_is_refused_by_name(small, tmp_path, m
     path.write_bytes(bytes(data))
     with pytest.raises(MeshError, match=r"damaged .*checksum"):
         load_gltf(path)
+
+
+def test_the_set_up_chunk_leaves_the_image_as_it_was_for_png_readers():
+    """The carried set-up is an ancillary chunk: PIL and the studio's own PNG reader decode the
+    same pixels with it as without, and it gives back exactly what went in."""
+    import io
+
+    from PIL import Image
+
+    from studio.core.files.png import decode_png, encode_png
+    from studio.core.project.gltf_carry import find_setup, with_setup
+
+    image = (np.arange(4 * 5 * 3) % 256).astype(np.uint8).reshape(4, 5, 3)
+    plain = encode_png(image)
+    arrays = {"not_face": np.array([True, False, True]),
+              "wdv0.directions": np.arange(9, dtype=np.float32).reshape(3, 3)}
+    carried = with_setup(plain, {"name": "face", "links": {"smile": {"cheeks": 0.5}}}, arrays)
+    assert find_setup(plain) is None
+    extras, back = find_setup(carried)
+    assert extras == {"name": "face", "links": {"smile": {"cheeks": 0.5}}}
+    assert list(back) == list(arrays)
+    np.testing.assert_array_equal(back["not_face"], [1, 0, 1])
+    np.testing.assert_array_equal(back["wdv0.directions"], arrays["wdv0.directions"])
+    np.testing.assert_array_equal(decode_png(carried), image)
+    with Image.open(io.BytesIO(carried)) as pil:
+        np.testing.assert_array_equal(np.asarray(pil), image)
