@@ -11,6 +11,7 @@ claims 8192² pixels at 16 bits in a few hundred kB, or an 11 MB .gltf built in 
 from __future__ import annotations
 
 import base64
+import functools
 import json
 import os
 import resource
@@ -224,6 +225,7 @@ def animate(g: Gltf, times: int, input_accessor: int | None = None,
                                           "output": output_accessor}]}]
 
 
+@functools.lru_cache(maxsize=8)  # the same few images serve several tests: made once
 def png_rows(width: int, height: int, depth: int, colour: int, row_filter: int = 0) -> bytes:
     """A valid PNG of zeros, compressed a row at a time (an 8192² 16-bit RGBA image is 537 MB
     raw and a few hundred kB here, built without holding the raw rows); every row declares
@@ -322,6 +324,33 @@ def test_a_png_at_the_image_budget_is_read_in_bounded_memory(tmp_path: Path, png
     g, prim = face()
     textured(g, prim, png_rows(*png))
     check_rule(new(tmp_path, g), 0)
+
+
+def maps(g: Gltf, prim: dict, count: int) -> None:
+    """The primitive's material shows ``count`` 4096² RGBA 16-bit maps (128 MiB each,
+    decoded): base colour, normal and the studio's wrinkled normal map, as many as asked."""
+    pngs = [png_rows(4096, 4096, 16, 6, 2) for _ in range(count)]
+    g.doc.update(images=[{"bufferView": g.view(png), "mimeType": "image/png"} for png in pngs],
+                 textures=[{"source": i} for i in range(count)])
+    material: dict = {"name": "skin", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}
+    if count > 1:
+        material["normalTexture"] = {"index": 1}
+    if count > 2:
+        material["extras"] = {"wrinkleNormalTexture": {"index": 2}}
+    g.doc["materials"] = [material]
+    prim["material"] = 0
+
+
+def test_two_maps_at_the_image_budget_are_read_in_bounded_memory(tmp_path: Path) -> None:
+    g, prim = face()
+    maps(g, prim, 2)
+    check_rule(new(tmp_path, g), 0)
+
+
+def test_three_maps_over_the_files_image_budget(tmp_path: Path) -> None:
+    g, prim = face()
+    maps(g, prim, 3)
+    refused(tmp_path, g, "WRINKLE_STUDIO_MAX_GLTF_IMAGE_BYTES")
 
 
 def test_an_11_mb_gltf_with_a_data_uri_is_read_in_little_memory(tmp_path: Path) -> None:

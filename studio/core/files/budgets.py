@@ -64,9 +64,10 @@ TOTAL_IMAGE_BYTES = Budget("MAX_TOTAL_IMAGE_BYTES", 3 << 30, "bytes")
 # decoded size while it is decoded and converted, so 128 MiB keeps the studio under 500 MB; an
 # 8K RGB texture (192 MiB) needs this raised (and some 700 MB).
 IMAGE_BYTES = Budget("MAX_IMAGE_BYTES", 128 << 20, "bytes")
-# Decoded bytes of all the images one glTF file's face uses: a diffuse and a normal map at 4K
-# (RGBA, 8 bits), or one 16-bit map: each stays in memory until the project is made.
-GLTF_IMAGE_BYTES = Budget("MAX_GLTF_IMAGE_BYTES", 128 << 20, "bytes")
+# Decoded bytes of all the images one glTF file's face uses: two maps at the limit above (a
+# diffuse and a normal map, 4096² RGBA at 16 bits: 413 MB for the whole import), four at 4K
+# and 8 bits; each stays in memory until the project is made.
+GLTF_IMAGE_BYTES = Budget("MAX_GLTF_IMAGE_BYTES", 256 << 20, "bytes")
 # Numbers a glTF file's accessors are read as, counted from what the file declares before any
 # is read, every placed copy of a mesh and every use of a shared accessor counted again: each
 # is a float64 while the scene is placed and welded, and a key pose's copy is made of it, so a
