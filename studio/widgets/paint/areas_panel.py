@@ -49,6 +49,7 @@ from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
 from studio.widgets.paint import edits as mask_edits
 from studio.widgets.paint.link_editor import LinkEditor
+from studio.widgets.rebuild import clear_form
 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga *.webp)"
 MIRROR_MODES = {
@@ -229,6 +230,7 @@ class AreasPanel(QScrollArea):
         self.rows: list[AreaRow] = []
         self.link_spins: dict[str, QDoubleSpinBox] = {}
         self.link_editors: dict[str, LinkEditor] = {}
+        self._links_key: tuple | None = None  # what the links form shows (_show_links)
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setMinimumWidth(380)
@@ -521,15 +523,28 @@ class AreasPanel(QScrollArea):
             widget.blockSignals(False)
 
     def _show_links(self) -> None:
-        while self.links_form.rowCount():
-            self.links_form.removeRow(0)
+        """The selected area's map and links. The same area with the same poses and maps is
+        shown in place, so the field a person is typing in stays where it is (and alive: this
+        runs inside that field's own signal); anything else makes the form again."""
+        area = self.active_area()
+        textures = self.doc.project.textures
+        key = None if area is None else (self.state.active, area.name,
+                                         tuple(self.doc.project.pose_names),
+                                         tuple(textures.wrinkle_map_names))
+        if area is not None and key == self._links_key:
+            self.map_combo.blockSignals(True)
+            self.map_combo.setCurrentIndex(textures.map_index(area.wrinkle_map))
+            self.map_combo.blockSignals(False)
+            for editor in self.link_editors.values():
+                editor.show_link()
+            return
+        self._links_key = key
+        clear_form(self.links_form)
         self.link_spins = {}
         self.link_editors = {}
-        area = self.active_area()
         if area is None:
             self.links_form.addRow(QLabel("No area selected."))
             return
-        textures = self.doc.project.textures
         self.map_combo = QComboBox()
         self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
                                   "more)")
@@ -550,9 +565,7 @@ class AreasPanel(QScrollArea):
             editor.refresh()
 
     def _map_chosen(self, index: int, row: int) -> None:
-        name = self.map_combo.itemData(row)
-        # queued: the edit rebuilds this form, which must not delete the combo inside its signal
-        QTimer.singleShot(0, lambda: mask_edits.set_area_map(self.doc, index, name))
+        mask_edits.set_area_map(self.doc, index, self.map_combo.itemData(row))
 
     # --- selection -----------------------------------------------------------------------------
     def select(self, index: int) -> None:

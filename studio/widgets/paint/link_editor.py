@@ -2,7 +2,7 @@
 curve's kind and the curve's plot.
 
 The gain spin box is the link itself (0 = not linked); the curve choice and the plot are made
-only for a linked pose (the panel makes the editors again whenever the links change), so an
+only for a linked pose (``show_link`` adds or drops them in place when the link changes), so an
 ARKit face's 52 poses cost 52 spin boxes, not 52 plots of ~10 ms each. Every change is
 an undo command (edits.set_link, curve_edits.set_link_curve); the editor shows the document back
 on ``refresh``, which the panel calls when the curves change (an edit, its undo or redo).
@@ -30,30 +30,52 @@ class LinkEditor(QWidget):
         self.spin.setKeyboardTracking(False)
         self.spin.setSpecialValueText("not linked")
         self.spin.setToolTip("Gain: the most this pose adds to the area's activation")
-        gain = doc.project.influence.links.get(pose, {}).get(area, 0.0)
-        self.spin.setValue(gain)
         self.spin.valueChanged.connect(lambda g: edits.set_link(doc, pose, area, g))
-        top = QHBoxLayout()
-        top.setContentsMargins(0, 0, 0, 0)
-        top.addWidget(self.spin, 1)
-        layout = QVBoxLayout(self)
-        layout.setContentsMargins(0, 0, 0, 0)
-        layout.addLayout(top)
+        self._top = QHBoxLayout()
+        self._top.setContentsMargins(0, 0, 0, 0)
+        self._top.addWidget(self.spin, 1)
+        self._layout = QVBoxLayout(self)
+        self._layout.setContentsMargins(0, 0, 0, 0)
+        self._layout.addLayout(self._top)
         self.kind: QComboBox | None = None
         self.plot: CurvePlot | None = None
-        if gain != 0.0:
-            self.kind = QComboBox()
-            for kind, label in LABELS.items():
-                self.kind.addItem(label, kind)
-            self.kind.setToolTip("Response curve: how the pose's weight becomes its "
-                                 "contribution (gain × curve(weight))")
-            self.kind.setObjectName(f"curve:{pose}")
-            self.plot = CurvePlot()
-            top.addWidget(self.kind, 1)
-            layout.addWidget(self.plot)
-            self.refresh()
-            self.kind.activated.connect(self._kind_chosen)
-            self.plot.edited.connect(self._edited)
+        self.show_link()
+
+    def gain(self) -> float:
+        return self.doc.project.influence.links.get(self.pose, {}).get(self.area, 0.0)
+
+    def show_link(self) -> None:
+        """Show the link as the document has it, in place: the gain in the spin box (which
+        keeps the focus and the cursor of a person typing in it), the curve's controls made
+        when the pose becomes linked and dropped when it is unlinked."""
+        gain = self.gain()
+        if self.spin.value() != gain:
+            self.spin.blockSignals(True)
+            self.spin.setValue(gain)
+            self.spin.blockSignals(False)
+        if (gain != 0.0) != (self.kind is not None):
+            self._drop_curve() if gain == 0.0 else self._make_curve()
+        self.refresh()
+
+    def _make_curve(self) -> None:
+        self.kind = QComboBox()
+        for kind, label in LABELS.items():
+            self.kind.addItem(label, kind)
+        self.kind.setToolTip("Response curve: how the pose's weight becomes its "
+                             "contribution (gain × curve(weight))")
+        self.kind.setObjectName(f"curve:{self.pose}")
+        self.plot = CurvePlot()
+        self._top.addWidget(self.kind, 1)
+        self._layout.addWidget(self.plot)
+        self.kind.activated.connect(self._kind_chosen)
+        self.plot.edited.connect(self._edited)
+
+    def _drop_curve(self) -> None:
+        for widget in (self.kind, self.plot):
+            if widget is not None:  # deleted later: the unlinking may have come from it
+                widget.hide()
+                widget.deleteLater()
+        self.kind = self.plot = None
 
     def curve(self) -> ResponseCurve:
         return link_curve(self.doc, self.pose, self.area)
