@@ -32,12 +32,14 @@ def configure_opengl() -> None:
 def run(project_path: str | None = None, screenshot: str | None = None) -> int:
     from PySide6.QtWidgets import QApplication
 
+    from studio.widgets.crash_log import enable_crash_log
     from studio.widgets.main_window import MainWindow
 
     configure_opengl()
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("Wrinkle Studio")
     app.setOrganizationName("WrinkleStudio")
+    enable_crash_log()  # a native crash leaves its Python stacks where the next start finds them
     window = MainWindow()
     window.show()
     if project_path is not None and not window.open_path(Path(project_path)) and screenshot:

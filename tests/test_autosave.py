@@ -67,6 +67,7 @@ def test_autosave_crash_then_recovery(qtbot, sample, dialogs, fast_autosave, tmp
     kind, text = dialogs[0]
     assert kind == "question"
     assert "Sample face" in text and "never saved" in text and "Autosaved:" in text
+    assert "stopped unexpectedly at" in text and "is recovered" in text
     doc = second.doc
     assert doc.modified and second.isWindowModified()
     assert doc.path is None  # the user chooses where to save it
@@ -80,11 +81,14 @@ def test_autosave_crash_then_recovery(qtbot, sample, dialogs, fast_autosave, tmp
     for name in ("diffuse", "normal_neutral", "normal_wrinkled"):
         assert np.array_equal(getattr(doc.project.textures, name),
                               getattr(edited.textures, name))
-    assert not recovery.exists() and find_recoveries() == []  # cleaned up
+    # kept, and now the second window's own: a crash right after recovering loses nothing
+    assert recovery.exists() and second.autosaver.project_file == recovery
+    assert find_recoveries() == []  # (a running window's file is not offered)
 
     # the recovered document is saved where the user wants; a second save keeps a .bak
     path = tmp_path / "face.wrinkle"
     assert second.save_to(path)
+    assert not recovery.exists() and find_recoveries() == []  # saved: nothing to recover
     assert not backup_path(path).exists()
     doc.set_pose_weight("frown", 0.9)
     assert second.save_to(path)
@@ -346,3 +350,40 @@ def test_the_budget_counts_a_paint_strokes_tiles(qtbot, sample):
     tiles = sum(before.nbytes + after.nbytes for _, _, before, after in command.tiles)
     assert tiles > 100_000
     assert command_bytes(command) >= tiles
+
+
+def test_a_snapshot_copies_again_only_what_changed_since_the_last(qtbot, sample, dialogs,
+                                                                  fast_autosave):
+    """Autosaving after each edit must not copy the whole project each time (a hitch on a real
+    head), and must never write a stale copy: a stroke's mask is copied again, and what it
+    wrote is in the recovery file. Seen red: with every copy kept, the second file lacks the
+    stroke."""
+    from studio.widgets.paint.edits import set_link
+
+    w = _open(qtbot, sample)
+    w.autosaver.set_interval(0)  # this test starts each autosave itself
+    doc, saver = w.doc, w.autosaver
+    doc.set_pose_weight("frown", 0.3)
+    assert saver.autosave()
+    qtbot.waitUntil(lambda: saver.autosaves == 1, timeout=10000)
+    first = dict(saver._copies.kept)
+    masks = [id(a.mask) for a in doc.project.influence.areas]
+    assert all(m in first for m in masks)
+
+    set_link(doc, "frown", doc.project.influence.areas[0].name, 0.7)  # no array changes
+    assert saver.autosave()
+    qtbot.waitUntil(lambda: saver.autosaves == 2, timeout=10000)
+    assert all(saver._copies.kept[m][1] is first[m][1] for m in masks)  # shared, not copied
+
+    _stroke(doc, 1)
+    assert saver.autosave()
+    qtbot.waitUntil(lambda: saver.autosaves == 3, timeout=10000)
+    kept = saver._copies.kept
+    assert kept[masks[1]][1] is not first[masks[1]][1]  # the painted mask was copied again
+    assert kept[masks[0]][1] is first[masks[0]][1]
+    recovered = load_project(saver.project_file)
+    assert np.abs(recovered.influence.areas[1].mask
+                  - doc.project.influence.areas[1].mask).max() <= 1 / 65535
+    assert recovered.influence.links["frown"][doc.project.influence.areas[0].name] == \
+        pytest.approx(0.7)
+    _close(w)

@@ -6,11 +6,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QSettings
+from PySide6.QtCore import QSettings, QStandardPaths
 
 
 def settings() -> QSettings:
     return QSettings("WrinkleStudio", "Wrinkle Studio")
+
+
+def data_folder() -> Path:
+    """The user's data folder for the studio (recovery files, crash logs): not created here."""
+    base = QStandardPaths.writableLocation(QStandardPaths.StandardLocation.AppDataLocation)
+    return Path(base) if base else Path.home() / ".local" / "share" / "WrinkleStudio"
 
 
 def last_folder() -> str:
