@@ -259,11 +259,24 @@ def test_links_and_auto_mask_animate_a_new_area(window, qtbot):
     assert area.mask[int(y) - 12:int(y) + 12, int(x) - 12:int(x) + 12].max() > 0.05
     cx, cy = uv_pixel(window, "chin")
     assert area.mask[int(cy), int(cx)] == 0.0 and h > 0
-    # edit the link in the panel: gain 0.5 for the surprise pose
-    panel.link_spins["surprise"].setValue(0.5)
+    # drive it by the surprise too, at gain 0.5: "Add pose…", type part of the name, Return,
+    # then the new link's gain
+    window.docks["Areas"].show()
+    window.docks["Areas"].raise_()
+    assert list(panel.link_spins) == ["squeeze"]  # only the poses that drive it are listed
+    panel.ensureWidgetVisible(panel.add_pose)
+    qtbot.mouseClick(panel.add_pose.lineEdit(), Qt.MouseButton.LeftButton)
+    qtbot.keyClicks(panel.add_pose.lineEdit(), "surprise")
+    qtbot.keyClick(panel.add_pose.lineEdit(), Qt.Key.Key_Return)
+    assert doc.project.influence.links["surprise"]["squeeze auto"] == 1.0
+    spin = panel.link_spins["surprise"]
+    qtbot.keyClick(spin, Qt.Key.Key_A, Qt.KeyboardModifier.ControlModifier)
+    qtbot.keyClicks(spin, "0.5")
+    qtbot.keyClick(spin, Qt.Key.Key_Return)
     doc.set_pose_weight("surprise", 1.0)
     assert doc.activations()[-1] == pytest.approx(0.5)
     doc.undo_stack.undo()  # the weight
+    doc.undo_stack.undo()  # the gain
     doc.undo_stack.undo()  # the link
     assert "squeeze auto" not in doc.project.influence.links.get("surprise", {})
 

@@ -36,6 +36,7 @@ from studio.widgets.timeline.tools import add_timeline_menu_entries, install_tim
 from studio.widgets.viewport.shading_panel import ShadingPanel
 from studio.widgets.viewport.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
 from studio.widgets.wdv.panel import install_wdv_tools
+from studio.widgets.wheel_guard import install_wheel_guard
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
@@ -86,6 +87,7 @@ class MainWindow(QMainWindow):
         install_timeline_tools(self)  # timeline, playback, animation export
         install_wdv_tools(self)  # technique 2: wrinkle direction vectors
         install_autosave(self)  # autosave, crash recovery, undo memory budget
+        install_wheel_guard()  # the wheel scrolls panels; it edits a field only once focused
         self._frame_label = QLabel("")
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()

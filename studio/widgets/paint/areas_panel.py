@@ -19,10 +19,10 @@ from PySide6.QtWidgets import (
     QCheckBox,
     QColorDialog,
     QComboBox,
+    QCompleter,
     QDoubleSpinBox,
     QFileDialog,
     QFormLayout,
-    QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QInputDialog,
@@ -41,15 +41,18 @@ from PySide6.QtWidgets import (
 
 from studio.core.files.errors import StudioError
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.setup.pose_map import wrinkle_map_for_pose
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.brush import Brush, Mirror, UvMirror
 from studio.core.wrinkles.flat_reveal import reveal_maps, t1_reveal
 from studio.core.wrinkles.surface_mirror import SurfaceMirror
 from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
+from studio.widgets.flow_layout import FlowLayout, flow, labelled
 from studio.widgets.paint import edits as mask_edits
 from studio.widgets.paint.link_editor import LinkEditor
 from studio.widgets.rebuild import clear_form
+from studio.widgets.timeline.pose_panel import pose_label
 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga *.webp)"
 MIRROR_MODES = {
@@ -233,7 +236,7 @@ class AreasPanel(QScrollArea):
         self._links_key: tuple | None = None  # what the links form shows (_show_links)
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        self.setMinimumWidth(380)
+        self.setFrameShape(QScrollArea.Shape.NoFrame)
         body = QWidget()
         layout = QVBoxLayout(body)
         layout.addWidget(self._build_layers())
@@ -278,7 +281,6 @@ class AreasPanel(QScrollArea):
         self.list.currentRowChanged.connect(self._row_selected)
         self.list.itemDoubleClicked.connect(lambda _: self.rename_dialog())
         v.addWidget(self.list)
-        buttons = QGridLayout()
         specs = [("Add", "A new empty area", self.add),
                  ("Duplicate", "Copy the selected area", self.duplicate),
                  ("Rename…", "Rename the selected area (or double-click it)", self.rename_dialog),
@@ -287,10 +289,9 @@ class AreasPanel(QScrollArea):
                  ("Down", "Move the selected area down", lambda: self.move(1)),
                  ("Mirror", "Mirror the selected area to the other side of the face, through "
                             "the mesh: …_L becomes …_R, linked to the paired poses",
-                  self.mirror_to_other_side)]
-        for i, (text, tip, slot) in enumerate(specs):
-            buttons.addWidget(self._button(text, tip, slot), i // 3, i % 3)
-        v.addLayout(buttons)
+                  self.mirror_to_other_side),
+                 ("Solo", "Show only the selected area's wrinkles (again: all)", self.solo)]
+        v.addWidget(flow(*(self._button(text, tip, slot) for text, tip, slot in specs)))
         res = QHBoxLayout()
         res.addWidget(QLabel("Mask resolution"))
         self.resolution = QComboBox()
@@ -325,26 +326,20 @@ class AreasPanel(QScrollArea):
         for i, (key, (label, tip)) in enumerate(MIRROR_MODES.items()):
             self.mirror.addItem(label, key)
             self.mirror.setItemData(i, tip, Qt.ItemDataRole.ToolTipRole)
+        self.mirror.setSizeAdjustPolicy(
+            QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.mirror.setMinimumContentsLength(12)
         self.mirror.setToolTip("Mirror painting across the face's symmetry: in UV, or through "
                                "the mesh for any UV layout")
         self.overlap = QCheckBox("Overlap view on the canvas")
         self.overlap.setToolTip("Red: the weighted sum of masks exceeds 1 (the clamp hides a "
                                 "conflict). Dark: no area reaches. Uses the current "
                                 "activations, or every area at 1 on a neutral face.")
-        grid = QGridLayout()
-        for i, (label, widget) in enumerate((("Radius", self.radius),
-                                             ("Hardness", self.hardness),
-                                             ("Opacity", self.opacity), ("Flow", self.flow))):
-            grid.addWidget(QLabel(label), i // 2, (i % 2) * 2)
-            grid.addWidget(widget, i // 2, (i % 2) * 2 + 1)
-        grid.setColumnStretch(1, 1)
-        grid.setColumnStretch(3, 1)
-        form.addRow(grid)
-        toggles = QHBoxLayout()
-        toggles.addWidget(self.eraser)
-        toggles.addWidget(QLabel("Mirror"))
-        toggles.addWidget(self.mirror, 1)
-        form.addRow(toggles)
+        for label, widget in (("Radius", self.radius), ("Hardness", self.hardness),
+                              ("Opacity", self.opacity), ("Flow", self.flow),
+                              ("Mirror", self.mirror)):
+            form.addRow(label, widget)
+        form.addRow(self.eraser)
         form.addRow(self.overlap)
         self._show_brush()
         self.radius.valueChanged.connect(lambda v: self.state.set_brush(radius=float(v)))
@@ -359,25 +354,23 @@ class AreasPanel(QScrollArea):
 
     def _build_adjust(self) -> QGroupBox:
         box = QGroupBox("Adjust the selected mask")
-        grid = QGridLayout(box)
-        grid.addWidget(self._button("Fill", "Fill with the brush opacity",
-                                    lambda: self.apply("Fill", lambda m: mask_ops.fill(
-                                        m, self.state.brush.opacity))), 0, 0)
-        grid.addWidget(self._button("Clear", "Set to 0",
-                                    lambda: self.apply("Clear", lambda m: mask_ops.fill(m, 0))),
-                       0, 1)
-        grid.addWidget(self._button("Invert", "1 − mask", lambda: self.apply(
-            "Invert", mask_ops.invert)), 0, 2)
+        v = QVBoxLayout(box)
         self.blur_radius = QSpinBox()
         self.blur_radius.setRange(1, 256)
         self.blur_radius.setValue(8)
         self.blur_radius.setSuffix(" px")
-        grid.addWidget(self._button("Blur", "Soften the mask's edges", lambda: self.apply(
-            "Blur", lambda m: mask_ops.blur(m, self.blur_radius.value()))), 1, 0)
-        grid.addWidget(self.blur_radius, 1, 1)
-        grid.addWidget(self._button("Mirror L→R", "Copy the image's left half onto the right",
-                                    lambda: self.apply("Mirror", lambda m: mask_ops.mirror_u(
-                                        m, "left"))), 1, 2)
+        self.blur_radius.setToolTip("How far Blur softens")
+        v.addWidget(flow(
+            self._button("Fill", "Fill with the brush opacity", lambda: self.apply(
+                "Fill", lambda m: mask_ops.fill(m, self.state.brush.opacity))),
+            self._button("Clear", "Set to 0", lambda: self.apply(
+                "Clear", lambda m: mask_ops.fill(m, 0))),
+            self._button("Invert", "1 − mask", lambda: self.apply("Invert", mask_ops.invert)),
+            self._button("Mirror L→R", "Copy the image's left half onto the right",
+                         lambda: self.apply("Mirror", lambda m: mask_ops.mirror_u(m, "left"))),
+            self._button("Blur", "Soften the mask's edges", lambda: self.apply(
+                "Blur", lambda m: mask_ops.blur(m, self.blur_radius.value()))),
+            self.blur_radius))
         self.black = QDoubleSpinBox()
         self.white = QDoubleSpinBox()
         self.gamma = QDoubleSpinBox()
@@ -386,19 +379,20 @@ class AreasPanel(QScrollArea):
             spin.setRange(lo, hi)
             spin.setSingleStep(0.05)
             spin.setValue(value)
-        levels = QHBoxLayout()
-        for label, spin in (("black", self.black), ("white", self.white), ("γ", self.gamma)):
-            levels.addWidget(QLabel(label))
-            levels.addWidget(spin)
-        grid.addLayout(levels, 2, 0, 1, 2)
-        grid.addWidget(self._button("Levels", "Map black…white to 0…1, then gamma",
-                                    lambda: self.apply("Levels", lambda m: mask_ops.levels(
-                                        m, self.black.value(), self.white.value(),
-                                        self.gamma.value()))), 2, 2)
+        v.addWidget(flow(*(labelled(text, spin) for text, spin in (
+            ("black", self.black), ("white", self.white), ("γ", self.gamma))),
+            self._button("Levels", "Map black…white to 0…1, then gamma",
+                         lambda: self.apply("Levels", lambda m: mask_ops.levels(
+                             m, self.black.value(), self.white.value(),
+                             self.gamma.value())))))
         return box
 
     def _build_links(self) -> QGroupBox:
-        box = QGroupBox("Selected area: wrinkled map and pose links")
+        """The selected area's map and the poses that drive it: only the linked ones, each
+        with its gain and response curve, and "Add pose…" to link another by typing part of
+        its name (MetaHuman's and Character Creator's "driven by" lists), not one field per
+        pose of the rig."""
+        box = QGroupBox("Selected area: wrinkled map, driven by")
         v = QVBoxLayout(box)
         note = QLabel("Moving toward a pose raises this area's activation by gain × "
                       "curve(weight); the curve shapes how (linear unless chosen).")
@@ -410,35 +404,53 @@ class AreasPanel(QScrollArea):
         self.flat_note.hide()
         v.addWidget(self.flat_note)
         self.links_form = QFormLayout()
+        self.links_form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapAllRows)
         v.addLayout(self.links_form)
-        auto = QHBoxLayout()
+        self.add_pose = QComboBox()
+        self.add_pose.setEditable(True)
+        self.add_pose.setInsertPolicy(QComboBox.InsertPolicy.NoInsert)
+        self.add_pose.lineEdit().setPlaceholderText("Add pose… (type to search)")
+        self.add_pose.setToolTip("Link another key pose to this area (gain 1; change it "
+                                 "below). Type part of a name, then Return")
+        completer = self.add_pose.completer()
+        completer.setFilterMode(Qt.MatchFlag.MatchContains)
+        completer.setCompletionMode(QCompleter.CompletionMode.PopupCompletion)
+        self.add_pose.activated.connect(self._pose_added)
+        v.addWidget(self.add_pose)
+        auto = FlowLayout()
         auto.addWidget(QLabel("From pose"))
         self.auto_pose = QComboBox()
         self.auto_pose.setToolTip("The key pose whose skin compression becomes the new area")
-        auto.addWidget(self.auto_pose, 1)
+        self.auto_pose.setSizeAdjustPolicy(
+            QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.auto_pose.setMinimumContentsLength(10)
+        auto.addWidget(self.auto_pose)
         auto.addWidget(self._button("Auto mask", "A new soft area where this pose compresses "
-                                    "the skin, linked to the pose", self.auto_mask))
+                                    "the skin, linked to the pose, revealing the wrinkled map "
+                                    "whose furrows belong to it", self.auto_mask))
         v.addLayout(auto)
         return box
 
     def _build_images(self) -> QGroupBox:
         box = QGroupBox("Images")
-        grid = QGridLayout(box)
+        v = QVBoxLayout(box)
         self.dark_strong = QCheckBox("Dark = strong (the thesis's masks)")
         self.dark_strong.setToolTip("Invert on import: black becomes full influence")
-        grid.addWidget(self.dark_strong, 0, 0, 1, 3)
-        grid.addWidget(self._button("Import images…", "Each image becomes an area, resampled "
-                                    "to the mask resolution", self.import_dialog), 1, 0)
-        grid.addWidget(self._button("Import folder…", "Every image in a folder becomes an area",
-                                    self.import_folder_dialog), 1, 1)
+        v.addWidget(self.dark_strong)
         self.bits = QComboBox()
         self.bits.addItem("16-bit PNG", 16)
         self.bits.addItem("8-bit PNG", 8)
-        grid.addWidget(self.bits, 2, 0)
-        grid.addWidget(self._button("Export selected…", "Save the selected mask as a PNG "
-                                    "(white = strong)", self.export_dialog), 2, 1)
-        grid.addWidget(self._button("Export all…", "Save every mask into a folder",
-                                    self.export_all_dialog), 2, 2)
+        self.bits.setToolTip("The depth exported masks are written with")
+        v.addWidget(flow(
+            self._button("Import images…", "Each image becomes an area, resampled to the mask "
+                         "resolution", self.import_dialog),
+            self._button("Import folder…", "Every image in a folder becomes an area",
+                         self.import_folder_dialog),
+            self._button("Export selected…", "Save the selected mask as a PNG (white = "
+                         "strong)", self.export_dialog),
+            self._button("Export all…", "Save every mask into a folder",
+                         self.export_all_dialog),
+            self.bits))
         return box
 
     # --- reflecting the document ---------------------------------------------------------------
@@ -523,12 +535,16 @@ class AreasPanel(QScrollArea):
             widget.blockSignals(False)
 
     def _show_links(self) -> None:
-        """The selected area's map and links. The same area with the same poses and maps is
-        shown in place, so the field a person is typing in stays where it is (and alive: this
-        runs inside that field's own signal); anything else makes the form again."""
+        """The selected area's map and the poses that drive it. The same area driven by the
+        same poses is shown in place, so the field a person is typing in stays where it is (and
+        alive: this runs inside that field's own signal); anything else makes the form again
+        (its widgets deleted once the event that asked is over)."""
         area = self.active_area()
         textures = self.doc.project.textures
-        key = None if area is None else (self.state.active, area.name,
+        linked = [] if area is None else [
+            p for p in self.doc.project.pose_names
+            if self.doc.project.influence.links.get(p, {}).get(area.name)]
+        key = None if area is None else (self.state.active, area.name, tuple(linked),
                                          tuple(self.doc.project.pose_names),
                                          tuple(textures.wrinkle_map_names))
         if area is not None and key == self._links_key:
@@ -542,6 +558,7 @@ class AreasPanel(QScrollArea):
         clear_form(self.links_form)
         self.link_spins = {}
         self.link_editors = {}
+        self.add_pose.setEnabled(area is not None)
         if area is None:
             self.links_form.addRow(QLabel("No area selected."))
             return
@@ -554,11 +571,29 @@ class AreasPanel(QScrollArea):
         index = self.state.active
         self.map_combo.activated.connect(lambda i: self._map_chosen(index, i))
         self.links_form.addRow("Wrinkled map", self.map_combo)
-        for pose in self.doc.project.poses:
-            editor = LinkEditor(self.doc, pose.name, area.name)
-            self.links_form.addRow(pose.name.replace("_", " "), editor)
-            self.link_editors[pose.name] = editor
-            self.link_spins[pose.name] = editor.spin
+        if not linked:
+            self.links_form.addRow(QLabel("Driven by no pose yet: add one below, or move the "
+                                          "area's own activation slider."))
+        for pose in linked:
+            editor = LinkEditor(self.doc, pose, area.name)
+            self.links_form.addRow(pose_label(pose), editor)
+            self.link_editors[pose] = editor
+            self.link_spins[pose] = editor.spin
+        self.add_pose.blockSignals(True)
+        self.add_pose.clear()
+        self.add_pose.addItems([p for p in self.doc.project.pose_names[1:] if p not in linked])
+        self.add_pose.setCurrentIndex(-1)
+        self.add_pose.blockSignals(False)
+
+    def _pose_added(self, row: int) -> None:
+        area = self.active_area()
+        pose = self.add_pose.itemText(row)
+        if area is not None and pose in self.doc.project.pose_names:
+            mask_edits.set_link(self.doc, pose, area.name, 1.0)
+            editor = self.link_editors.get(pose)
+            if editor is not None:  # on to its gain, as a person goes on to set it
+                editor.spin.setFocus()
+                editor.spin.selectAll()
 
     def _show_curves(self) -> None:
         for editor in self.link_editors.values():
@@ -601,6 +636,18 @@ class AreasPanel(QScrollArea):
                                       self.state.surface_mirror(self.doc.project.mesh))
         self.select(self.doc.project.influence.areas.index(area))
 
+    def solo(self) -> None:
+        """Only the selected area shows; pressed again (or for an area already alone), all."""
+        areas = self.doc.project.influence.areas
+        index = self.active_index()
+        if not 0 <= index < len(areas):
+            return
+        alone = tuple(i == index for i in range(len(areas)))
+        if tuple(a.visible for a in areas) == alone:
+            mask_edits.set_visible_all(self.doc, tuple(True for _ in areas), "Show all areas")
+        else:
+            mask_edits.set_visible_all(self.doc, alone, f"Solo {areas[index].name}")
+
     def delete(self) -> None:
         if self.active_area() is not None:
             mask_edits.delete_area(self.doc, self.state.active)
@@ -641,7 +688,8 @@ class AreasPanel(QScrollArea):
             QMessageBox.information(self, "Auto mask",
                                     f"The pose “{pose}” compresses no skin; no area was made.")
             return
-        mask_edits.add_area(self.doc, f"{pose} auto", mask, links={pose: 1.0})
+        mask_edits.add_area(self.doc, f"{pose} auto", mask, links={pose: 1.0},
+                            wrinkle_map=wrinkle_map_for_pose(project, pose, mask))
         self.select(len(self.doc.project.influence.areas) - 1)
 
     # --- images --------------------------------------------------------------------------------

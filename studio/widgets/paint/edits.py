@@ -25,6 +25,7 @@ from studio.core.wrinkles.brush import Brush, Mirror, Rect, Stroke, tile_changes
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.surface_mirror import SurfaceMirror
+from studio.widgets.commands import ValueCommand
 from studio.widgets.document import Document
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp"}
@@ -184,12 +185,13 @@ def next_colour(doc: Document) -> tuple[int, int, int]:
 
 
 def add_area(doc: Document, name: str = "area", mask: np.ndarray | None = None,
-             links: dict[str, float] | None = None) -> InfluenceArea:
-    """A new (empty) area after the others; ``links``: pose -> gain for it."""
+             links: dict[str, float] | None = None, wrinkle_map: str = "") -> InfluenceArea:
+    """A new (empty) area after the others; ``links``: pose -> gain for it; ``wrinkle_map``:
+    the map it reveals ("" = the first)."""
     h, w = mask_shape(doc)
     area = InfluenceArea(unique_name(name, (a.name for a in doc.project.influence.areas)),
                          np.zeros((h, w), np.float32) if mask is None else mask,
-                         colour=next_colour(doc))
+                         colour=next_colour(doc), wrinkle_map=wrinkle_map)
     new_links = copy.deepcopy(doc.project.influence.links)
     for pose, gain in (links or {}).items():
         new_links.setdefault(pose, {})[area.name] = float(gain)
@@ -199,13 +201,25 @@ def add_area(doc: Document, name: str = "area", mask: np.ndarray | None = None,
 
 
 def duplicate_area(doc: Document, index: int) -> InfluenceArea:
-    src = doc.project.influence.areas[index]
-    taken = (a.name for a in doc.project.influence.areas)
+    """A copy after the area: its mask, map and settings, driven by the same poses with the
+    same gains and curves (a copy that no pose moves would look like a broken duplicate)."""
+    influence = doc.project.influence
+    src = influence.areas[index]
+    taken = (a.name for a in influence.areas)
     area = InfluenceArea(unique_name(f"{src.name} copy", taken), src.mask.copy(),
-                         colour=src.colour, activation=src.activation, visible=src.visible)
-    areas = list(doc.project.influence.areas)
+                         colour=src.colour, activation=src.activation, visible=src.visible,
+                         wrinkle_map=src.wrinkle_map)
+    areas = list(influence.areas)
     areas.insert(index + 1, area)
-    doc.undo_stack.push(AreasCommand(doc, f"Duplicate {src.name}", areas))
+    links = copy.deepcopy(influence.links)
+    for gains in links.values():
+        if src.name in gains:
+            gains[area.name] = gains[src.name]
+    curves = _copy_curves(influence.curves)
+    for by_area in curves.values():
+        if src.name in by_area:
+            by_area[area.name] = by_area[src.name]
+    doc.undo_stack.push(AreasCommand(doc, f"Duplicate {src.name}", areas, links, curves))
     return area
 
 
@@ -302,6 +316,23 @@ def _set_area_value(doc: Document, index: int, attr: str, value, text: str,
 def set_area_visible(doc: Document, index: int, visible: bool) -> None:
     _set_area_value(doc, index, "visible", visible, "Show" if visible else "Hide",
                     doc.activationsChanged)
+
+
+def set_visible_all(doc: Document, visible: tuple[bool, ...], text: str) -> None:
+    """Solo / show all: every area's visibility at once, as one step."""
+    areas = list(doc.project.influence.areas)
+
+    def read() -> tuple[bool, ...]:
+        return tuple(a.visible for a in areas)
+
+    def apply(values: tuple[bool, ...]) -> None:
+        for a, v in zip(areas, values, strict=True):
+            a.visible = v
+        doc.areasChanged.emit()
+        doc.activationsChanged.emit()
+
+    if read() != tuple(visible):
+        doc.undo_stack.push(ValueCommand(text, read, apply, tuple(visible)))
 
 
 def set_area_map(doc: Document, index: int, wrinkle_map: str) -> None:

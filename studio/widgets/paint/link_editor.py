@@ -1,7 +1,8 @@
 """One pose's link to the selected influence area in the Areas panel: its gain, its response
 curve's kind and the curve's plot.
 
-The gain spin box is the link itself (0 = not linked); the curve choice and the plot are made
+The Areas panel shows an editor for each pose that drives the selected area ("driven by"); the
+gain spin box is the link itself (0 or ✕ unlinks); the curve choice and the plot are made
 only for a linked pose (``show_link`` adds or drops them in place when the link changes), so an
 ARKit face's 52 poses cost 52 spin boxes, not 52 plots of ~10 ms each. Every change is
 an undo command (edits.set_link, curve_edits.set_link_curve); the editor shows the document back
@@ -10,7 +11,14 @@ on ``refresh``, which the panel calls when the curves change (an edit, its undo 
 
 from __future__ import annotations
 
-from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QHBoxLayout, QVBoxLayout, QWidget
+from PySide6.QtWidgets import (
+    QComboBox,
+    QDoubleSpinBox,
+    QHBoxLayout,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
 
 from studio.core.wrinkles.response import LABELS, ResponseCurve
 from studio.core.wrinkles.response_handles import converted
@@ -31,11 +39,17 @@ class LinkEditor(QWidget):
         self.spin.setSpecialValueText("not linked")
         self.spin.setToolTip("Gain: the most this pose adds to the area's activation")
         self.spin.valueChanged.connect(lambda g: edits.set_link(doc, pose, area, g))
+        self.remove = QToolButton()
+        self.remove.setText("✕")
+        self.remove.setAutoRaise(True)
+        self.remove.setToolTip(f"Unlink {pose}: it no longer drives this area")
+        self.remove.clicked.connect(lambda: edits.set_link(doc, pose, area, 0.0))
         self._top = QHBoxLayout()
         self._top.setContentsMargins(0, 0, 0, 0)
         self._top.addWidget(self.spin, 1)
         self._layout = QVBoxLayout(self)
         self._layout.setContentsMargins(0, 0, 0, 0)
+        self._top.addWidget(self.remove)
         self._layout.addLayout(self._top)
         self.kind: QComboBox | None = None
         self.plot: CurvePlot | None = None
@@ -64,8 +78,11 @@ class LinkEditor(QWidget):
         self.kind.setToolTip("Response curve: how the pose's weight becomes its "
                              "contribution (gain × curve(weight))")
         self.kind.setObjectName(f"curve:{self.pose}")
+        self.kind.setSizeAdjustPolicy(  # a narrow column elides the curve's name, not the row
+            QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
+        self.kind.setMinimumContentsLength(8)
         self.plot = CurvePlot()
-        self._top.addWidget(self.kind, 1)
+        self._top.insertWidget(1, self.kind, 1)  # before the unlink button
         self._layout.addWidget(self.plot)
         self.kind.activated.connect(self._kind_chosen)
         self.plot.edited.connect(self._edited)

@@ -18,9 +18,7 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
     QFormLayout,
-    QGridLayout,
     QGroupBox,
-    QHBoxLayout,
     QLabel,
     QListWidget,
     QListWidgetItem,
@@ -34,8 +32,10 @@ from PySide6.QtWidgets import (
 from studio.core.animation.poses import NEUTRAL
 from studio.core.mesh import selection as sel
 from studio.core.wrinkles.flat_reveal import reveal_maps, t2_reveal
+from studio.widgets.flow_layout import FlowLayout, flow
 from studio.widgets.slider_row import SliderRow
 from studio.widgets.wdv import edits
+from studio.widgets.wdv.comb_tool import CombControls, install_comb
 from studio.widgets.wdv.tools import WdvTools
 
 FLAT_CHECK_MS = 300  # the flat-map check waits for the window to show and edits to settle
@@ -102,18 +102,16 @@ class WdvPanel(QScrollArea):
         self.area_list.currentRowChanged.connect(self._row_changed)
         self.area_list.itemChanged.connect(self._item_changed)
         a_layout.addWidget(self.area_list)
-        row = QHBoxLayout()
         self.add_button = self._button("Add", "Add an empty area", self._add)
         self.delete_button = self._button("Delete", "Delete the current area", self._delete)
         self.up_button = self._tool_button("▲", "Move the area up", lambda: self._move(-1))
         self.down_button = self._tool_button("▼", "Move the area down", lambda: self._move(1))
         self.solo_button = self._button("Solo", "Show only this area's wrinkles (again: all)",
                                         self._solo)
-        for w in (self.add_button, self.delete_button, self.up_button, self.down_button,
-                  self.solo_button):
-            row.addWidget(w)
-        a_layout.addLayout(row)
+        a_layout.addWidget(flow(self.add_button, self.delete_button, self.up_button,
+                                self.down_button, self.solo_button))
         form = QFormLayout()
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapLongRows)
         self.pose_combo = QComboBox()
         self.pose_combo.setToolTip("The key pose whose motion creates this area's wrinkles")
         self.pose_combo.activated.connect(self._pose_chosen)
@@ -142,9 +140,8 @@ class WdvPanel(QScrollArea):
         a_layout.addWidget(self.flat_label)
         return areas
 
-    def _build_cone_paint_row(self) -> QHBoxLayout:
+    def _build_cone_paint_row(self) -> QWidget:
         """Per-vertex cone angles: the value, the brush, to the selection, clear."""
-        painted = QHBoxLayout()
         self.cone_paint = QDoubleSpinBox()
         self.cone_paint.setRange(0.5, 90.0)
         self.cone_paint.setDecimals(1)
@@ -164,10 +161,8 @@ class WdvPanel(QScrollArea):
         self.cone_clear_button = self._tool_button(
             "Clear", "Remove the painted angles: every vertex uses the area's angle",
             self._clear_cones)
-        for w in (self.cone_paint, self.cone_brush_button, self.cone_selected_button,
-                  self.cone_clear_button):
-            painted.addWidget(w)
-        return painted
+        return flow(self.cone_paint, self.cone_brush_button, self.cone_selected_button,
+                    self.cone_clear_button)
 
     def _build_select_box(self) -> QGroupBox:
         """The select tool, its modes and brush, and the selection operations."""
@@ -178,7 +173,7 @@ class WdvPanel(QScrollArea):
         self.tool_button.setToolTip("Left-drag in the viewport selects; Alt+drag still orbits")
         self.tool_button.toggled.connect(self._tool_toggled)
         s_layout.addWidget(self.tool_button)
-        modes = QHBoxLayout()
+        modes = FlowLayout()
         self.mode_group = QButtonGroup(self)
         self.mode_buttons: dict[str, QToolButton] = {}
         for mode, tip in (("click", "Click a vertex"), ("box", "Drag a rectangle"),
@@ -195,7 +190,7 @@ class WdvPanel(QScrollArea):
         self.mode_buttons["cone"] = self.cone_brush_button
         self.mode_buttons[self.tools.tool.mode].setChecked(True)
         s_layout.addLayout(modes)
-        options = QHBoxLayout()
+        options = FlowLayout()
         self.radius = QDoubleSpinBox()
         self.radius.setRange(2.0, 300.0)
         self.radius.setDecimals(0)
@@ -210,7 +205,7 @@ class WdvPanel(QScrollArea):
         self.through.toggled.connect(lambda on: setattr(self.tools, "select_through", on))
         options.addWidget(self.through)
         s_layout.addLayout(options)
-        grid = QGridLayout()
+        grid = FlowLayout()
         ops = [("Grow", "Add the neighbours of the selection", self._grow),
                ("Shrink", "Drop the selection's border", self._shrink),
                ("Invert", "Select what is not selected", self._invert),
@@ -220,10 +215,10 @@ class WdvPanel(QScrollArea):
                ("Area's", "Select the vertices the current area has vectors for",
                 self._from_area)]
         self.op_buttons: dict[str, QPushButton] = {}
-        for i, (name, tip, slot) in enumerate(ops):
+        for name, tip, slot in ops:
             b = self._button(name, tip, slot)
             self.op_buttons[name] = b
-            grid.addWidget(b, i // 3, i % 3)
+            grid.addWidget(b)
         s_layout.addLayout(grid)
         self.selection_label = QLabel()
         s_layout.addWidget(self.selection_label)
@@ -233,7 +228,7 @@ class WdvPanel(QScrollArea):
         """Suggest, Create and Clear, what to show, and the status line."""
         create = QGroupBox("Wrinkle directions")
         c_layout = QVBoxLayout(create)
-        suggest = QHBoxLayout()
+        suggest = FlowLayout()
         self.threshold = QDoubleSpinBox()
         self.threshold.setRange(0.0, 100.0)
         self.threshold.setValue(20.0)
@@ -246,16 +241,18 @@ class WdvPanel(QScrollArea):
         suggest.addWidget(QLabel("over"))
         suggest.addWidget(self.threshold)
         c_layout.addLayout(suggest)
-        buttons = QHBoxLayout()
+        buttons = FlowLayout()
         self.create_button = self._button("Create", "Set d = normalize(P_pose − P_neutral) for "
                                           "the selected vertices; zero elsewhere in this area",
                                           self._create)
         self.create_button.setDefault(True)
         self.create_button.setStyleSheet("font-weight: bold;")
         self.clear_button = self._button("Clear", "Remove this area's vectors", self._clear)
-        buttons.addWidget(self.create_button, 2)
-        buttons.addWidget(self.clear_button, 1)
+        buttons.addWidget(self.create_button)
+        buttons.addWidget(self.clear_button)
         c_layout.addLayout(buttons)
+        self.comb_controls = CombControls(self.tools)  # draw directions instead (C)
+        c_layout.addWidget(self.comb_controls)
         self.vectors_check = QCheckBox("Show vectors")
         self.vectors_check.setChecked(True)
         self.vectors_check.setToolTip("The current area's vectors over the face, while this "
@@ -268,7 +265,7 @@ class WdvPanel(QScrollArea):
         heat.setToolTip("Show each vertex's wrinkle visibility while you move the pose sliders")
         heat.toggled.connect(lambda on: self.doc.set_view(debug_view="heat" if on else "shaded"))
         self.heat_check = heat
-        row2 = QHBoxLayout()
+        row2 = FlowLayout()
         row2.addWidget(self.vectors_check)
         row2.addWidget(self.all_areas_check)
         row2.addWidget(heat)
@@ -575,5 +572,6 @@ def install_wdv_tools(window) -> WdvTools:
     tools.panel = panel
     tools.timing.connect(lambda what, ms: window.statusBar().showMessage(
         f"{what}: {ms:.1f} ms", 2000))
+    install_comb(window, tools, panel.comb_controls)
     window.wdv_tools = tools
     return tools
