@@ -18,6 +18,7 @@ from studio.widgets.commands import ValueCommand
 from studio.widgets.document import Document
 
 _SELECTION_ID = 4101
+_VECTORS_ID = 4102
 AREA_COLOURS = [(255, 150, 40), (60, 220, 120), (90, 140, 255), (240, 80, 160), (250, 220, 60),
                 (80, 220, 230), (190, 120, 255), (255, 100, 80)]
 
@@ -90,18 +91,35 @@ class AreaListCommand(QUndoCommand):
 
 
 class VectorsCommand(QUndoCommand):
-    """Sets an area's directions and lengths; stores only the vertices whose values change."""
+    """Sets an area's directions and lengths; stores only the vertices whose values change.
+
+    ``index`` given: ``directions`` and ``lengths`` are the new values of those vertices only
+    (a comb dab touches a few dozen of thousands, and must not compare the whole face per mouse
+    move). A comb stroke (one ``gesture``) merges into one undo step over every vertex it
+    touched."""
 
     def __init__(self, doc: Document, area: WdvArea, directions: np.ndarray,
-                 lengths: np.ndarray, text: str) -> None:
+                 lengths: np.ndarray, text: str, gesture: Hashable | None = None,
+                 index: np.ndarray | None = None) -> None:
         super().__init__(text)
         self.doc = doc
         self.area = area
-        changed = (np.any(area.directions != directions, axis=1) | (area.lengths != lengths))
-        self.index = np.flatnonzero(changed)
+        self.gesture = gesture
+        if index is not None:
+            index = np.asarray(index, np.int64)
+            directions = np.asarray(directions, np.float32).reshape(-1, 3)
+            lengths = np.asarray(lengths, np.float32).reshape(-1)
+            changed = (np.any(area.directions[index] != directions, axis=1)
+                       | (area.lengths[index] != lengths))
+            self.index = index[changed]
+            self.new = (directions[changed].copy(), lengths[changed].copy())
+        else:
+            changed = (np.any(area.directions != directions, axis=1) | (area.lengths != lengths))
+            self.index = np.flatnonzero(changed)
+            self.new = (directions[self.index].astype(np.float32), lengths[self.index].astype(
+                np.float32))
         self.old = (area.directions[self.index].copy(), area.lengths[self.index].copy())
-        self.new = (directions[self.index].astype(np.float32), lengths[self.index].astype(
-            np.float32))
+        self.setObsolete(self.empty and gesture is not None)  # a dab that changed nothing
 
     def _apply(self, values: tuple[np.ndarray, np.ndarray]) -> None:
         self.area.directions[self.index] = values[0]
@@ -113,6 +131,29 @@ class VectorsCommand(QUndoCommand):
 
     def undo(self) -> None:
         self._apply(self.old)
+
+    def id(self) -> int:
+        return _VECTORS_ID if self.gesture is not None else -1
+
+    def mergeWith(self, other: QUndoCommand) -> bool:
+        """The state before self and after other, over the union of the vertices they touched
+        (``other`` has been applied: the area holds the state after it)."""
+        if (not isinstance(other, VectorsCommand) or other.gesture != self.gesture
+                or other.area is not self.area):
+            return False
+        index = np.union1d(self.index, other.index)
+        old_d = np.empty((len(index), 3), np.float32)
+        old_l = np.empty(len(index), np.float32)
+        for cmd in (other, self):  # self's "before" wins where both touched a vertex
+            pos = np.searchsorted(index, cmd.index)
+            old_d[pos], old_l[pos] = cmd.old
+        new_d, new_l = self.area.directions[index].copy(), self.area.lengths[index].copy()
+        keep = np.any(old_d != new_d, axis=1) | (old_l != new_l)
+        self.index = index[keep]
+        self.old = (old_d[keep], old_l[keep])
+        self.new = (new_d[keep], new_l[keep])
+        self.setObsolete(self.empty)  # combed and back: no step
+        return True
 
     @property
     def empty(self) -> bool:
@@ -248,5 +289,15 @@ def clear_directions(doc: Document, area: WdvArea) -> None:
     n = doc.project.mesh.n_welded
     cmd = VectorsCommand(doc, area, np.zeros((n, 3), np.float32), np.zeros(n, np.float32),
                          f"Clear wrinkle directions of {area.name}")
+    if not cmd.empty:
+        doc.undo_stack.push(cmd)
+
+
+def comb_directions(doc: Document, area: WdvArea, index: np.ndarray, directions: np.ndarray,
+                    lengths: np.ndarray, gesture: Hashable) -> None:
+    """One comb dab: new directions and lengths of the ``index`` vertices; the dabs of one
+    stroke (``gesture``) are one undo step."""
+    cmd = VectorsCommand(doc, area, directions, lengths, f"Comb wrinkle directions of "
+                         f"{area.name}", gesture, index)
     if not cmd.empty:
         doc.undo_stack.push(cmd)

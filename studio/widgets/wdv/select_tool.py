@@ -74,28 +74,18 @@ class SelectTool:
         self._reach = 0.0  # the farthest the pointer went from the press, in logical pixels
 
     # --- helpers -------------------------------------------------------------------------------
-    @staticmethod
-    def _pixel(viewport: Viewport, event: QMouseEvent) -> tuple[float, float]:
-        ratio = viewport.devicePixelRatioF()
-        p = event.position()
-        return p.x() * ratio, p.y() * ratio
-
     def _apply(self, hits: np.ndarray, text: str, gesture: int | None = None) -> None:
         doc = self.tools.doc
         set_selection(doc, sel.combine(doc.selection, hits, self._op), text, gesture)
 
     # --- gestures ------------------------------------------------------------------------------
     def press(self, viewport: Viewport, event: QMouseEvent) -> None:
-        if self.tools.doc.view.split:
-            window = viewport.window()
-            if hasattr(window, "statusBar"):
-                window.statusBar().showMessage("Vertex selection works in the single view: "
-                                               "turn the side-by-side split off", 5000)
+        if refused_in_split(self.tools.doc, viewport, "Vertex selection"):
             return
         self._start = event.position()
         self._reach = 0.0
         self._op = gesture_mode(event.modifiers(), brush=self.mode in BRUSHES)
-        self._path = [self._pixel(viewport, event)]
+        self._path = [device_pixel(viewport, event)]
         self._view = self.tools.screen_view()
         if self.mode in BRUSHES:
             self._gesture = new_gesture()
@@ -103,7 +93,7 @@ class SelectTool:
         event.accept()
 
     def move(self, viewport: Viewport, event: QMouseEvent) -> None:
-        x, y = self._pixel(viewport, event)
+        x, y = device_pixel(viewport, event)
         overlay = self.tools.overlay
         if self._start is None:  # hovering: show the brush where it would paint
             if self.mode in BRUSHES:
@@ -126,7 +116,7 @@ class SelectTool:
     def release(self, viewport: Viewport, event: QMouseEvent) -> None:
         if self._start is None:
             return
-        x, y = self._pixel(viewport, event)
+        x, y = device_pixel(viewport, event)
         # how far the gesture went, not where it ended: a lasso is closed where it began
         moved = max(self._reach, (event.position() - self._start).manhattanLength())
         view = self._view
@@ -148,7 +138,7 @@ class SelectTool:
         viewport.update()
 
     def _brush(self, viewport: Viewport, event: QMouseEvent) -> None:
-        x, y = self._pixel(viewport, event)
+        x, y = device_pixel(viewport, event)
         view = self._view
         hits = view.select(sel.in_circle(view.pixels, (x, y), self.brush_radius),
                            self.tools.select_through)
@@ -176,6 +166,25 @@ class SelectTool:
         self._start, self._view = None, None
         self.tools.overlay.set_outline(None)
         viewport.update()
+
+
+def device_pixel(viewport: Viewport, event: QMouseEvent) -> tuple[float, float]:
+    """The event's position in framebuffer pixels (what the camera projects to)."""
+    ratio = viewport.devicePixelRatioF()
+    p = event.position()
+    return p.x() * ratio, p.y() * ratio
+
+
+def refused_in_split(doc: Document, viewport: Viewport, what: str) -> bool:
+    """The split view draws each half with its own aspect, so screen gestures on vertices would
+    miss: say so in the status bar and refuse (True)."""
+    if not doc.view.split:
+        return False
+    window = viewport.window()
+    if hasattr(window, "statusBar"):
+        window.statusBar().showMessage(f"{what} works in the single view: turn the "
+                                       "side-by-side split off", 5000)
+    return True
 
 
 def circle(x: float, y: float, radius: float, segments: int = 48) -> np.ndarray:

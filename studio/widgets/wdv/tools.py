@@ -1,6 +1,6 @@
-"""Technique-2 authoring in the window: the dock, the select tool and the overlay, wired to the
-document. ``studio.widgets.wdv.panel.install_wdv_tools(window)`` is the one call the main
-window makes.
+"""Technique-2 authoring in the window: the dock, the select and comb tools and the overlay,
+wired to the document. ``studio.widgets.wdv.panel.install_wdv_tools(window)`` is the one call
+the main window makes.
 
 ``WdvTools`` holds only view state (the current area, tool options) and caches derived from the
 document (posed positions, normals, edges, the mirror map), refreshed when its signals say so.
@@ -18,6 +18,7 @@ from studio.core.mesh.geometry import vertex_normals
 from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 from studio.render.wdv_overlay import WdvOverlay, vector_lines
 from studio.widgets.document import Document
+from studio.widgets.wdv.comb_tool import CombTool
 from studio.widgets.wdv.select_tool import CLICK_RADIUS, SelectTool, pick_vertex
 
 GLYPH_FRACTION = 0.02  # vector glyph length, as a fraction of the face's size
@@ -34,6 +35,7 @@ class WdvTools(QObject):
         self.viewport = viewport
         self.overlay = WdvOverlay()
         self.tool = SelectTool(self)
+        self.comb = CombTool(self)  # drawing directions (C): the panel's Comb controls set it
         self.select_through = False
         self.cone_paint_value = 8.0  # degrees the cone brush paints (Ctrl paints "area's angle")
         # vectors follow the task: the current area's while its panel is open, the others
