@@ -144,3 +144,37 @@ def test_combing_across_the_motion_fades_the_wrinkles_while_dragging(window, qtb
     assert region_difference(during, combed, middle, radius=20) < 1.0
     for corner in ("eye corner right", "eye corner left"):  # other areas' wrinkles stay
         assert region_difference(wrinkled, combed, marks[corner]) == 0.0
+
+
+def test_the_comb_says_what_it_needs_and_shares_the_viewport_with_select(window, qtbot):
+    """C with nothing selected: a drag changes nothing and the status bar says to select first.
+    S and C take the viewport from each other, the toolbar and the panel's button following;
+    C again leaves the comb.
+    Red once with the bug put back by hand: without unchecking the select action when the
+    comb is taken (``select.setChecked(False)`` removed in ``install_comb``), "Select
+    vertices" stayed checked under the comb."""
+    doc, tools = window.doc, window.wdv_tools
+    assert not doc.selection.any()
+    window.viewport.setFocus()
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    assert window.viewport.tool is tools.comb
+    start, end = forehead_box(window)
+    steps = doc.undo_stack.count()
+    before = [a.directions.copy() for a in doc.project.wdv.areas]
+    drag(qtbot, window.viewport, start, end)
+    assert "select the vertices" in window.statusBar().currentMessage()
+    assert doc.undo_stack.count() == steps
+    assert all(np.array_equal(a.directions, d)
+               for a, d in zip(doc.project.wdv.areas, before, strict=True))
+
+    qtbot.keyClick(window, Qt.Key.Key_S)
+    assert window.viewport.tool is tools.tool
+    assert not tools.comb_action.isChecked()
+    assert not tools.panel.comb_controls.button.isChecked()
+    qtbot.mouseClick(tools.panel.comb_controls.button, Qt.MouseButton.LeftButton)
+    assert window.viewport.tool is tools.comb and tools.comb_action.isChecked()
+    assert not tools.select_action.isChecked()
+    window.viewport.setFocus()
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    assert window.viewport.tool is None
+    assert not tools.panel.comb_controls.button.isChecked()
