@@ -83,7 +83,7 @@ def test_combing_lays_the_selected_directions_along_the_drag_in_one_undo_step(wi
     assert "Combed" in window.statusBar().currentMessage()
 
     # the vertices the hard core of the brush passed over now point along the drag
-    radius = tools.comb.brush.radius * window.viewport.devicePixelRatioF()
+    radius = tools.comb.brush.radius  # framebuffer pixels, like the screen view's
     view = tools.screen_view()
     px = view.pixels
     ratio = window.viewport.devicePixelRatioF()

@@ -2,7 +2,8 @@
 
 With a vector area current and vertices selected, a left-drag over the face bends the wrinkle
 direction of the selected vertices under the brush toward the drag, projected onto each vertex's
-tangent plane (studio/core/wrinkles/comb.py). Each mouse move is one dab, pushed as a
+tangent plane (studio/core/wrinkles/comb.py) on the face as it is drawn (posed), so the drawn
+vectors land on the drag whatever the pose sliders show. Each mouse move is one dab, pushed as a
 ``VectorsCommand`` carrying the stroke's gesture token, so the vectors and the shading follow
 the drag live and the whole stroke is one undo step. Combed vertices become authored.
 
