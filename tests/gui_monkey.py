@@ -489,9 +489,13 @@ def gain_check(window) -> dict:
     focused_keys(K.Key_End)(window.pose_panel.pose_rows[pose].slider)
     _settle(300)
     before = viewport_image(window)
-    spin = _gain_field(window) and panel.link_spins[pose]
-    out: dict = {"area": area, "pose": pose, "weight": doc.pose_weights.get(pose)}
-    for what, gesture in (("type 1 + Return", type_then("1", K.Key_Return)),
+    _gain_field(window)
+    type_then(pose, K.Key_Return)(panel.add_pose)  # "Add pose…": type its name, Return
+    _settle(50)
+    out: dict = {"area": area, "pose": pose, "weight": doc.pose_weights.get(pose),
+                 "added": doc.project.influence.links.get(pose, {}).get(area, 0.0)}
+    spin = panel.link_spins[pose]
+    for what, gesture in (("type 0.8 + Return", type_then("0.8", K.Key_Return)),
                           ("Up", keys(K.Key_Up)),
                           ("type 0.5 + Tab", type_then("0.5", K.Key_Tab)),
                           ("wheel (focused)", wheel(1, True)),

@@ -47,17 +47,18 @@ def test_no_gesture_on_any_panel_field_crashes_the_studio(tmp_path, phases):
 
 
 def test_the_gain_field_takes_typed_values_arrow_keys_tab_and_the_wheel(tmp_path):
-    """The issue's crash, as a person meets it: a pose's gain field ("not linked") of the
-    selected area, typed into and stepped with the keys and the wheel — the document follows
-    each gesture, the field stays the same field (with the focus: it is not rebuilt under the
-    person's cursor), and the face shows the area once linked at the pose's full weight."""
+    """The issue's crash, as a person meets it: a pose linked to the selected area ("Add
+    pose…", its name typed, Return), then its gain field typed into and stepped with the keys
+    and the wheel — the document follows each gesture, the field stays the same field (with
+    the focus: it is not rebuilt under the person's cursor), and the face shows the area once
+    linked at the pose's full weight."""
     import json
 
     rc, out = run_monkey(tmp_path, "--gain-check", timeout=300)
     assert rc == 0, _verdict(rc, out)
     seen = json.loads(out.split("GAIN ", 1)[1].splitlines()[0])
-    assert seen["weight"] == 1.0
-    for gesture, value in (("type 1 + Return", 1.0), ("Up", 1.1), ("type 0.5 + Tab", 0.5),
+    assert seen["weight"] == 1.0 and seen["added"] == 1.0
+    for gesture, value in (("type 0.8 + Return", 0.8), ("Up", 0.9), ("type 0.5 + Tab", 0.5),
                            ("wheel (focused)", 0.6), ("Down", 0.5)):
         assert seen[gesture] == pytest.approx(value), (gesture, seen)
         assert seen[gesture + ": same field"], (gesture, seen)

@@ -1,0 +1,153 @@
+"""The workflow a person meets (issue #35): panels that fit their column, a wheel that scrolls
+instead of editing, and linking an area the way MetaHuman's "driven by" lists do. Real clicks,
+keys and wheel turns; the document and the picture checked.
+
+Seen red, each once: with the Areas panel's old 380-pixel minimum (and its button grid), the
+fit test finds a horizontal scroll bar and cut buttons; without the wheel guard, the unfocused
+wheel changes Painted θ; with duplicate_area copying no links, the copy is driven by nothing;
+with Auto mask revealing the first map, the squeeze's area reveals "brow"; with no Solo, no
+button is found.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtGui import QWheelEvent
+from PySide6.QtWidgets import (
+    QAbstractButton,
+    QAbstractScrollArea,
+    QApplication,
+    QPushButton,
+    QScrollArea,
+)
+
+from tests.gui_helpers import bring_forward, viewport_image
+
+RIGHT_COLUMN = ("Poses", "Shading", "Areas", "Wrinkle vectors")
+
+
+def _wheel(widget, steps: int) -> None:
+    """A wheel turn with the pointer over ``widget``, delivered as Qt delivers one."""
+    centre = widget.rect().center()
+    event = QWheelEvent(QPointF(centre), QPointF(widget.mapToGlobal(centre)), QPoint(),
+                        QPoint(0, 120 * steps), Qt.MouseButton.NoButton,
+                        Qt.KeyboardModifier.NoModifier, Qt.ScrollPhase.NoScrollPhase, False)
+    QApplication.sendEvent(widget, event)
+
+
+def _button(root, text: str) -> QPushButton:
+    return next(b for b in root.findChildren(QPushButton) if b.text() == text)
+
+
+@pytest.mark.parametrize("window_size", [(1440, 900), (1920, 1080)])
+def test_every_panel_fits_its_column_and_no_button_is_cut(open_window, window_size, qtbot):
+    from studio.widgets.main_window import sample_project
+
+    window = open_window(sample_project())
+    for title in RIGHT_COLUMN:
+        dock = window.docks[title]
+        dock.show()
+        dock.raise_()
+        qtbot.wait(100)
+        for area in dock.findChildren(QAbstractScrollArea):
+            if isinstance(area, QScrollArea) and area.isVisible():
+                bar = area.horizontalScrollBar()
+                assert not bar.isVisible() and bar.maximum() == 0, \
+                    f"{title}: a horizontal scroll bar ({bar.maximum()} px too wide)"
+        for button in dock.findChildren(QAbstractButton):
+            if button.isVisible() and button.text():
+                assert button.width() >= button.sizeHint().width() - 1, \
+                    f"{title}: “{button.text()}” is cut ({button.width()} < " \
+                    f"{button.sizeHint().width()} px)"
+
+
+def test_the_wheel_over_an_unfocused_field_scrolls_the_panel_and_changes_nothing(window, qtbot):
+    doc = window.doc
+    panel = window.wdv_tools.panel
+    bring_forward(panel)
+    window.resize(1200, 500)  # short: the panel scrolls
+    qtbot.wait(100)
+    field = panel.cone_paint
+    panel.ensureWidgetVisible(field)
+    scroll = panel.verticalScrollBar()
+    scroll.setValue(scroll.minimum() + (scroll.maximum() - scroll.minimum()) // 2)
+    qtbot.wait(50)
+    before, at, steps = field.value(), scroll.value(), doc.undo_stack.count()
+    _wheel(field, -1)  # the pointer passes over the field while scrolling down
+    assert field.value() == before and doc.undo_stack.count() == steps
+    assert scroll.value() > at  # the panel scrolled instead
+    qtbot.mouseClick(field, Qt.MouseButton.LeftButton)  # clicked: now the wheel is its own
+    _wheel(field, 1)
+    assert field.value() == pytest.approx(before + field.singleStep())
+
+
+def test_an_area_is_driven_by_the_poses_added_to_it_by_name(window, qtbot):
+    doc = window.doc
+    panel = window.mask_tools.panel
+    bring_forward(panel)
+    panel.select([a.name for a in doc.project.influence.areas].index("cheeks"))
+    assert list(panel.link_spins) == ["squeeze"]  # only what drives it, not every pose
+    doc.set_view(technique="t1")
+    doc.set_pose_weight("frown", 1.0)
+    qtbot.wait(200)
+    before = viewport_image(window)
+    line = panel.add_pose.lineEdit()
+    panel.ensureWidgetVisible(panel.add_pose)
+    qtbot.mouseClick(line, Qt.MouseButton.LeftButton)
+    qtbot.keyClicks(line, "frown")
+    qtbot.keyClick(line, Qt.Key.Key_Return)
+    assert doc.project.influence.links["frown"]["cheeks"] == 1.0
+    assert list(panel.link_spins) == ["squeeze", "frown"]
+    assert QApplication.focusWidget() is panel.link_spins["frown"]  # on to its gain
+    qtbot.waitUntil(lambda: not np.array_equal(viewport_image(window), before), timeout=5000)
+    remove = panel.link_editors["frown"].remove
+    qtbot.mouseClick(remove, Qt.MouseButton.LeftButton)  # ✕ unlinks
+    assert "cheeks" not in doc.project.influence.links.get("frown", {})
+    qtbot.waitUntil(lambda: list(panel.link_spins) == ["squeeze"], timeout=2000)
+    doc.undo_stack.undo()
+    assert doc.project.influence.links["frown"]["cheeks"] == 1.0
+
+
+def test_duplicate_keeps_the_links_and_auto_mask_reveals_the_poses_map(window, qtbot):
+    doc = window.doc
+    panel = window.mask_tools.panel
+    bring_forward(panel)
+    names = [a.name for a in doc.project.influence.areas]
+    panel.select(names.index("between brows"))
+    qtbot.mouseClick(_button(panel, "Duplicate"), Qt.MouseButton.LeftButton)
+    copy = doc.project.influence.areas[names.index("between brows") + 1]
+    assert copy.name == "between brows copy"
+    assert doc.project.influence.links["frown"][copy.name] == 1.0
+    assert copy.wrinkle_map == doc.project.influence.areas[names.index("between brows")].wrinkle_map
+
+    # the squeeze's furrows are on "eyes and cheeks", not the first map ("brow")
+    combo = panel.auto_pose
+    panel.ensureWidgetVisible(combo)
+    qtbot.mouseClick(combo, Qt.MouseButton.LeftButton)
+    view = combo.view()
+    qtbot.keyClick(view, Qt.Key.Key_Home)
+    for _ in range(combo.findText("squeeze")):
+        qtbot.keyClick(view, Qt.Key.Key_Down)
+    qtbot.keyClick(view, Qt.Key.Key_Return)
+    qtbot.mouseClick(_button(panel, "Auto mask"), Qt.MouseButton.LeftButton)
+    made = doc.project.influence.areas[-1]
+    assert made.name == "squeeze auto" and made.wrinkle_map == "eyes and cheeks"
+    assert panel.map_combo.currentText() == "eyes and cheeks"
+
+
+def test_solo_shows_one_area_and_again_all(window, qtbot):
+    doc = window.doc
+    panel = window.mask_tools.panel
+    bring_forward(panel)
+    areas = doc.project.influence.areas
+    panel.select(2)
+    solo = _button(panel, "Solo")
+    qtbot.mouseClick(solo, Qt.MouseButton.LeftButton)
+    assert [a.visible for a in areas] == [i == 2 for i in range(len(areas))]
+    assert [r.visible.isChecked() for r in panel.rows] == [a.visible for a in areas]
+    qtbot.mouseClick(_button(panel, "Solo"), Qt.MouseButton.LeftButton)
+    assert all(a.visible for a in areas)
+    doc.undo_stack.undo()
+    assert [a.visible for a in areas] == [i == 2 for i in range(len(areas))]
