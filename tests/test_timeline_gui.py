@@ -8,7 +8,9 @@ import time
 import numpy as np
 import pytest
 from PIL import Image
-from PySide6.QtCore import QPoint, Qt
+from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtGui import QWheelEvent
+from PySide6.QtWidgets import QApplication
 
 from studio.core.animation.timeline import Timeline
 from studio.core.project.reader import load_project
@@ -35,7 +37,28 @@ def track_point(panel, pose: str, frame: float, value: float) -> QPoint:
     return panel.key_widget_pos(pose, frame, value)
 
 
+def wheel(widget, pos: QPoint, steps: int, modifiers=Qt.KeyboardModifier.NoModifier) -> None:
+    """Turn the mouse wheel ``steps`` notches (positive: away from the user) over ``pos``."""
+    event = QWheelEvent(QPointF(pos), QPointF(widget.mapToGlobal(pos)), QPoint(),
+                        QPoint(0, 120 * steps), Qt.MouseButton.NoButton, modifiers,
+                        Qt.ScrollPhase.NoScrollPhase, False)
+    QApplication.sendEvent(widget, event)
+
+
+def show_row(qtbot, panel, pose: str) -> None:
+    """Scroll the rows with Shift+wheel over them until ``pose``'s row is on screen."""
+    for _ in range(len(panel.poses)):
+        if pose in panel.visible_rows():
+            return
+        below = panel.poses.index(pose) > panel.poses.index(panel.visible_rows()[0])
+        centre = panel.view.mapFromScene(panel.track_box.sceneBoundingRect().center())
+        wheel(panel.view.viewport(), centre, -1 if below else 1, Qt.KeyboardModifier.ShiftModifier)
+        qtbot.wait(1)
+    assert pose in panel.visible_rows()
+
+
 def click_track(qtbot, panel, pose: str, frame: float, value: float) -> None:
+    show_row(qtbot, panel, pose)
     qtbot.mouseClick(panel.view.viewport(), Qt.MouseButton.LeftButton,
                      pos=track_point(panel, pose, frame, value))
 
@@ -94,6 +117,7 @@ def test_dragging_a_key_retimes_it_in_one_undo_step(blank, qtbot):
     blank.doc.show_frame(12)
     assert blank.doc.pose_weights["frown"] == pytest.approx(0.5)
     steps = blank.doc.undo_stack.count()
+    show_row(qtbot, panel, "frown")
     drag_track(qtbot, panel, track_point(panel, "frown", 24, 1.0),
                track_point(panel, "frown", 48, 1.0))
     frame = keys(blank, "frown")[1][0]
@@ -112,6 +136,7 @@ def test_scrubbing_the_playhead_moves_the_face_and_wrinkles(window, qtbot):
     before = viewport_image(window)
     assert window.doc.frame == 0
     # the sample's surprise holds at full weight from frame 84 to 96: scrub there
+    show_row(qtbot, panel, "frown")
     drag_track(qtbot, panel, track_point(panel, "frown", 0, 0.5),
                track_point(panel, "frown", 90, 0.5))
     assert window.doc.frame == pytest.approx(90, abs=1)

@@ -111,7 +111,8 @@ def test_sequencing_fits_the_time_axis_and_the_playhead_stays_on_screen(opened, 
     assert timeline.end >= last > 96  # five poses, 1.5 s each: past the old range
     lo, hi = panel.track_box.viewRange()[0]
     assert lo <= timeline.start and hi >= last  # all of it shown, not 0–96
-    assert panel.visible_rows() == panel.poses  # five rows fit the default height
+    shown = panel.visible_rows()  # whole rows from the top, each tall enough to click a weight
+    assert len(shown) >= 2 and shown == panel.poses[:len(shown)]
     # the curve plot has room in the default layout
     assert panel.curves.isVisible() and panel.curves.getViewBox().height() >= 40
     # zoomed in on the start, the End key moves the playhead off the shown range: the view
@@ -145,7 +146,7 @@ def test_many_poses_scroll_their_rows_and_leave_the_curves_room(opened, sample):
     window = opened(sample)
     panel = window.timeline_panel
     shown = panel.visible_rows()
-    assert 5 <= len(shown) < 10 and shown == names[:len(shown)]  # from the top, whole rows
+    assert 2 <= len(shown) < 10 and shown == names[:len(shown)]  # from the top, whole rows
     assert panel.rows.isVisible()
     assert panel.curves.getViewBox().height() >= 40
     panel.rows.setValue(panel.rows.maximum())

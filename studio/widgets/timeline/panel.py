@@ -1,10 +1,16 @@
 """The timeline dock: key-pose tracks, a playhead, transport controls and a curve view.
 
-Each track row is a small graph of its pose's weight over time (bottom of the row = 0, top = 1),
-so where a key sits says both when and how strongly: click in a row to add a key at that time and
+Each track row is a small graph of its pose's weight over time (its baseline = 0, top = 1), so
+where a key sits says both when and how strongly: click in a row to add a key at that time and
 height, drag a key sideways to retime it or up and down to change its weight (one undo step per
 drag), drag anywhere else to scrub. The curve view below shows the pose weights and the
 technique-1 area activations they produce — what actually drives the wrinkles.
+
+As in Blender's timeline, a ruler of frame numbers above the rows is where one scrubs (click or
+drag), and a left drag in the curves scrubs too (panning is the middle or right button); the view
+never pans before the first frame. Rows are tall enough to set a weight by height and their
+height is the user's (drag the names' column, or the Rows control), remembered across sessions.
+The current row — the pose K keys: the last one edited here or in the Poses panel — is marked.
 """
 
 from __future__ import annotations
@@ -35,6 +41,7 @@ from PySide6.QtWidgets import (
 
 from studio.core.animation.timeline import INTERPOLATIONS
 from studio.core.project.model import Project
+from studio.widgets.app_settings import settings
 from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
 from studio.widgets.timeline.edits import ClipKey, KeyRef, TimelineEdits, TimelineState
@@ -44,13 +51,17 @@ from studio.widgets.timeline.pose_panel import pose_label
 ROW_PAD = 0.12  # empty part of a track row above and below its 0..1 band (row units)
 ROW_BAND = 1.0 - 2 * ROW_PAD
 VALUE_SNAP = 0.05
+SNAP_PIXELS = 4.0  # a click this close to a row's baseline (or top) is weight 0 (or 1)
 HIT_PIXELS = 8.0
 PANEL_HEIGHT = 176  # pixels the timeline asks for: its dock is then about 200 high
 CONTROLS_WIDTH = 250  # pixels: the transport and key controls left of the tracks
-ROW_PIXELS = 16  # the height a track row needs for its name to be read
-ROWS_AT_LEAST = 5  # rows kept on screen however short the dock; the rest scroll
+ROW_PIXELS = 32  # a row's height unless the user chose one: 0.05 of weight is over a pixel
+ROW_PIXELS_RANGE = (18, 120)  # the heights a user may give the rows
+ROW_HEIGHT_KEY = "timeline/row_pixels"  # where the chosen height is remembered
+ROWS_AT_LEAST = 2  # rows kept on screen however short the dock; the rest scroll
+RULER_PIXELS = 36  # the time ruler's height: its frame numbers, and the playhead's
 LEGEND_ENTRIES = 10  # curves the legend names (two columns), so it stays as short as the plot
-CURVES_PIXELS = 60  # the curve plot's least height
+CURVES_PIXELS = 48  # the curve plot's height (the ruler says its frames)
 FOLLOW_MARGIN = 0.05  # share of the shown time kept before the playhead when the view pages
 INTERPOLATION_LABELS = {"linear": "Linear", "cosine": "Cosine (Parke)",
                         "smooth": "Smooth (ease in/out)", "constant": "Constant (hold)"}
@@ -77,20 +88,14 @@ def activation_curves(project: Project, frames: np.ndarray, base: dict[str, floa
     return animated, influence.activations_over(names, weights)
 
 
-class TrackViewBox(pg.ViewBox):
-    """Left button edits keys and scrubs; the wheel zooms time; middle/right drag pans."""
+class TimeViewBox(pg.ViewBox):
+    """A time view: the wheel zooms time, a middle or right drag pans it (never before the first
+    frame: see ``TimelinePanel.frame_all_time``), Shift+wheel scrolls the track rows."""
 
     def __init__(self, panel: TimelinePanel) -> None:
         super().__init__(enableMenu=False)
         self.panel = panel
         self.setMouseEnabled(x=True, y=False)
-
-    def mouseClickEvent(self, ev) -> None:
-        if ev.button() != Qt.MouseButton.LeftButton:
-            super().mouseClickEvent(ev)
-            return
-        ev.accept()
-        self.panel.track_clicked(self.mapSceneToView(ev.scenePos()), ev.modifiers())
 
     def wheelEvent(self, ev, axis=None) -> None:
         """Shift+wheel scrolls the rows (when they do not all fit); the wheel zooms time."""
@@ -99,18 +104,68 @@ class TrackViewBox(pg.ViewBox):
             steps = -int(np.sign(ev.delta())) if ev.delta() else 0
             self.panel.rows.setValue(self.panel.rows.value() + steps)
             return
-        super().wheelEvent(ev, axis)
+        super().wheelEvent(ev, 0)
+
+
+class ScrubViewBox(TimeViewBox):
+    """The ruler and the curves: a left click or drag moves the playhead (scrubs), as on
+    Blender's timeline; it never pans the view."""
+
+    def mouseClickEvent(self, ev) -> None:
+        if ev.button() != Qt.MouseButton.LeftButton:
+            super().mouseClickEvent(ev)
+            return
+        ev.accept()
+        self.panel.player.stop()
+        self.panel.scrub_to(self.mapSceneToView(ev.scenePos()).x())
 
     def mouseDragEvent(self, ev, axis=None) -> None:
         if ev.button() != Qt.MouseButton.LeftButton:
-            super().mouseDragEvent(ev, axis)
+            super().mouseDragEvent(ev, 0)
             return
         ev.accept()
+        if ev.isStart():
+            self.panel.player.stop()
+        self.panel.scrub_to(self.mapSceneToView(ev.scenePos()).x())
+
+
+class TrackViewBox(TimeViewBox):
+    """Left button edits keys and scrubs; a left drag in the names' column sets the rows'
+    height (the row edge nearest the press follows the pointer)."""
+
+    def mouseClickEvent(self, ev) -> None:
+        if ev.button() != Qt.MouseButton.LeftButton:
+            super().mouseClickEvent(ev)
+            return
+        ev.accept()
+        if not self.sceneBoundingRect().contains(ev.scenePos()):
+            return  # a click on the names' column (forwarded by the axis): nothing to add
+        self.panel.track_clicked(self.mapSceneToView(ev.scenePos()), ev.modifiers())
+
+    def mouseDragEvent(self, ev, axis=None) -> None:
+        if ev.button() != Qt.MouseButton.LeftButton:
+            super().mouseDragEvent(ev, 0)
+            return
+        ev.accept()
+        if axis == 1:  # the names' column: resize the rows
+            if ev.isStart():
+                self.panel.row_drag_started(self.mapSceneToView(ev.buttonDownScenePos()).y())
+            self.panel.row_drag_moved(ev.scenePos().y() - self.sceneBoundingRect().top())
+            return
         if ev.isStart():
             self.panel.drag_started(self.mapSceneToView(ev.buttonDownScenePos()))
         self.panel.drag_moved(self.mapSceneToView(ev.scenePos()))
         if ev.isFinish():
             self.panel.drag_finished()
+
+
+def _remembered_row_pixels() -> int:
+    """The row height the user last chose (any session), within the allowed range."""
+    try:
+        pixels = int(settings().value(ROW_HEIGHT_KEY, ROW_PIXELS))
+    except (TypeError, ValueError):
+        pixels = ROW_PIXELS
+    return min(max(pixels, ROW_PIXELS_RANGE[0]), ROW_PIXELS_RANGE[1])
 
 
 class TimelinePanel(QWidget):
@@ -121,8 +176,10 @@ class TimelinePanel(QWidget):
         self.player = Player(doc, self)
         self.selection: set[KeyRef] = set()
         self.clipboard: list[ClipKey] = []
-        self.current_pose: str | None = None  # the row last clicked: where K keys
+        self.current_pose: str | None = None  # the pose last edited (row or slider): K keys it
+        self.row_pixels = _remembered_row_pixels()
         self._drag: dict | None = None
+        self._row_drag: float | None = None  # rows above the row edge being dragged
         self._updating = False
         self._framed: tuple[int, int] | None = None  # the frame range the time axis last fitted
         self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
@@ -226,6 +283,15 @@ class TimelinePanel(QWidget):
         key_row.addWidget(self.interpolation, 1)
         key_row.addWidget(self.key_value)
         form.addRow("Key", key_row)
+        self.row_height = QSpinBox()
+        self.row_height.setRange(*ROW_PIXELS_RANGE)
+        self.row_height.setSuffix(" px")
+        self.row_height.setKeyboardTracking(False)
+        self.row_height.setToolTip("Height of the track rows (or drag a row's edge in the "
+                                   "names' column); taller rows set a weight more finely")
+        self.row_height.setValue(self.row_pixels)
+        self.row_height.valueChanged.connect(self.set_row_pixels)
+        form.addRow("Rows", self.row_height)
         controls.addLayout(form)
         self.sequence = QPushButton("Sequence all poses")
         self.sequence.setToolTip("Replace the animation by neutral → pose → neutral for each "
@@ -263,40 +329,63 @@ class TimelinePanel(QWidget):
                              "scrub\nDel · Ctrl+C/V · K: key the pose slider · wheel: zoom "
                              "time · Shift+wheel: scroll rows")
         self.view.ci.setSpacing(2)
+        self.ruler = self.view.addPlot(row=0, col=0, viewBox=ScrubViewBox(self))
+        self.ruler.hideButtons()
+        self.ruler.setMenuEnabled(False)
+        self.ruler.hideAxis("bottom")
+        self.ruler.showAxis("top")
+        self.ruler.getAxis("top").setStyle(tickLength=-5)
+        ruler_left = self.ruler.getAxis("left")
+        ruler_left.setWidth(110)
+        ruler_left.setTicks([[], []])
+        ruler_left.setPen(pg.mkPen(None))
+        self.ruler.getViewBox().setBackgroundColor((38, 38, 44))
+        self.ruler.setYRange(0, 1, padding=0)
+        self.ruler.setFixedHeight(RULER_PIXELS)
+        self.ruler.setToolTip("Click or drag on the ruler: move the playhead (scrub)")
         self.track_box = TrackViewBox(self)
-        self.tracks = self.view.addPlot(row=0, col=0, viewBox=self.track_box)
+        self.tracks = self.view.addPlot(row=1, col=0, viewBox=self.track_box)
         self.tracks.hideButtons()
         self.tracks.showGrid(x=True, y=False, alpha=0.15)
-        self.tracks.getAxis("left").setWidth(110)
-        self.tracks.hideAxis("bottom")  # the curves' axis below says the frames of both
+        names = self.tracks.getAxis("left")
+        names.setWidth(110)
+        names.setCursor(Qt.CursorShape.SizeVerCursor)
+        names.setToolTip("Drag up or down: the rows' height")
+        self.tracks.hideAxis("bottom")  # the ruler above says the frames
         self.tracks.setMenuEnabled(False)
         self.track_box.sigResized.connect(self._fit_rows)
-        self.curves = self.view.addPlot(row=1, col=0)
+        self.curves = self.view.addPlot(row=2, col=0, viewBox=ScrubViewBox(self))
         self.curves.hideButtons()
         self.curves.showGrid(x=True, y=True, alpha=0.15)
         self.curves.getAxis("left").setWidth(110)
+        self.curves.hideAxis("bottom")
         self.curves.setLabel("left", "weight / activation")
         self.curves.setYRange(-0.05, 1.08, padding=0)
-        self.curves.setMouseEnabled(x=True, y=False)
         self.curves.setMenuEnabled(False)
         self.curves.setXLink(self.tracks)
+        self.ruler.setXLink(self.tracks)
         self.legend = pg.LegendItem(colCount=2, labelTextSize="7pt", verSpacing=-6)
-        self.view.addItem(self.legend, row=1, col=1)
+        self.view.addItem(self.legend, row=1, col=1, rowspan=2)  # beside rows and curves
         self.view.ci.layout.setColumnFixedWidth(1, 230)
-        self.view.ci.layout.setRowMinimumHeight(1, CURVES_PIXELS)
-        self.view.ci.layout.setRowStretchFactor(0, 1)
-        self.view.ci.layout.setRowStretchFactor(1, 1)
-        self.view.scene().sigMouseClicked.connect(self._curve_clicked)
+        self.view.ci.layout.setRowMinimumHeight(2, CURVES_PIXELS)
+        self.curves.setMaximumHeight(CURVES_PIXELS)  # the rows get what the curves leave
 
+        self.row_marker = pg.LinearRegionItem(orientation="horizontal", movable=False,
+                                              brush=pg.mkBrush(255, 200, 40, 28),
+                                              pen=pg.mkPen(255, 200, 40, 90))
+        self.row_marker.setZValue(-25)
+        self.tracks.addItem(self.row_marker)
+        self.ruler_playhead = pg.InfiniteLine(angle=90, pen=pg.mkPen(255, 200, 40, width=2),
+                                              label="{value:.0f}",
+                                              labelOpts={"position": 0.5, "color": (20, 20, 20),
+                                                         "fill": (255, 200, 40, 230)})
+        self.ruler.addItem(self.ruler_playhead)
         self.range_region = pg.LinearRegionItem(movable=False, brush=pg.mkBrush(255, 255, 255, 12),
                                                 pen=pg.mkPen(120, 120, 120, 160))
         self.range_region.setZValue(-20)
         self.tracks.addItem(self.range_region)
         self.playhead = pg.InfiniteLine(angle=90, movable=True, pen=pg.mkPen(255, 200, 40, width=2),
-                                        hoverPen=pg.mkPen(255, 230, 120, width=3),
-                                        label="{value:.0f}",
-                                        labelOpts={"position": 0.96, "color": (255, 210, 60),
-                                                   "fill": (40, 36, 20, 200)})
+                                        hoverPen=pg.mkPen(255, 230, 120, width=3))
         self.playhead.setZValue(30)
         self.playhead.sigPositionChanged.connect(self._playhead_dragged)
         self.tracks.addItem(self.playhead)
@@ -357,9 +446,11 @@ class TimelinePanel(QWidget):
         return poses[len(poses) - 1 - row]
 
     def value_at_y(self, y: float) -> float:
-        """The weight a click at height ``y`` means: 0.05 steps, with 0 and 1 easy to hit."""
+        """The weight a click at height ``y`` means: 0.05 steps, with the baseline (0) and the
+        top (1) a few pixels wide, so a click on the drawn baseline is 0 at any row height."""
         value = (y - np.floor(y) - ROW_PAD) / ROW_BAND
-        value = 0.0 if value < 1.5 * VALUE_SNAP else 1.0 if value > 1 - 1.5 * VALUE_SNAP else value
+        snap = SNAP_PIXELS / (self.row_pixels * ROW_BAND)
+        value = 0.0 if value < snap else 1.0 if value > 1 - snap else value
         return float(np.clip(np.round(value / VALUE_SNAP) * VALUE_SNAP, 0.0, 1.0))
 
     def key_scene_pos(self, pose: str, frame: float, value: float) -> QPointF:
@@ -399,7 +490,7 @@ class TimelinePanel(QWidget):
 
     def _project_replaced(self) -> None:
         self.selection = set()
-        self.current_pose = self.poses[0] if self.poses else None
+        self.set_current_pose(self.poses[0] if self.poses else None)
         poses = self.poses
 
         def make_curve() -> pg.PlotDataItem:
@@ -425,10 +516,8 @@ class TimelinePanel(QWidget):
             curve.setBrush(pg.mkBrush(fill))
             curve.setFillLevel(row + ROW_PAD)
             self.track_curves[pose] = curve
-            line.setValue(row)
-        # a few readable rows however short the dock (the rest scroll), and the curves below
-        self.view.ci.layout.setRowMinimumHeight(
-            0, ROW_PIXELS * min(max(len(poses), 1), ROWS_AT_LEAST) + 8)
+            line.setValue(row + ROW_PAD)  # the baseline: weight 0
+        self._rows_at_least()
         axis = self.tracks.getAxis("left")
         axis.setTicks([[(self.row_of(p) + 0.5, pose_label(p)) for p in poses], []])
         self.rows.setValue(0)
@@ -436,22 +525,51 @@ class TimelinePanel(QWidget):
         self.refresh()
         self.frame_all_time()
 
+    def _rows_at_least(self) -> None:
+        """A few rows on screen however short the dock (the rest scroll), the curves below."""
+        count = min(max(len(self.poses), 1), ROWS_AT_LEAST)
+        self.view.ci.layout.setRowMinimumHeight(1, self.row_pixels * count + 4)
+
     def _fit_rows(self) -> None:
-        """Show as many whole track rows as fit at a readable height, from the scroll bar's
-        row down; the bar shows only when some rows do not fit."""
+        """Rows exactly ``row_pixels`` tall from the scroll bar's row down (empty space below
+        the last, as in Blender's dope sheet); the bar shows only when some rows do not fit."""
         count = max(len(self.poses), 1)
-        fit = max(int(self.track_box.height() // ROW_PIXELS), 1)
+        shown = max(self.track_box.height() / self.row_pixels, 1.0)  # rows' worth of height
+        fit = max(int(shown), 1)
+        top = 0
         if fit >= count:
             self.rows.setVisible(False)
-            self.tracks.setYRange(0, count, padding=0.02)
+        else:
+            blocker = QSignalBlocker(self.rows)
+            self.rows.setRange(0, count - fit)
+            self.rows.setPageStep(fit)
+            del blocker
+            self.rows.setVisible(True)
+            top = self.rows.value()  # rows hidden above
+        self.tracks.setYRange(count - top - shown, count - top, padding=0)
+
+    def set_row_pixels(self, pixels: int) -> None:
+        """The rows' height (a view preference, not an edit: remembered, not undone)."""
+        pixels = min(max(int(pixels), ROW_PIXELS_RANGE[0]), ROW_PIXELS_RANGE[1])
+        if pixels == self.row_pixels:
             return
-        blocker = QSignalBlocker(self.rows)
-        self.rows.setRange(0, count - fit)
-        self.rows.setPageStep(fit)
-        del blocker
-        self.rows.setVisible(True)
-        top = self.rows.value()  # rows hidden above
-        self.tracks.setYRange(count - top - fit, count - top, padding=0)
+        self.row_pixels = pixels
+        settings().setValue(ROW_HEIGHT_KEY, pixels)
+        with QSignalBlocker(self.row_height):
+            self.row_height.setValue(pixels)
+        self._rows_at_least()
+        self._fit_rows()
+
+    def row_drag_started(self, y: float) -> None:
+        """A press in the names' column takes the row edge nearest it."""
+        top = self.track_box.viewRange()[1][1]
+        self._row_drag = max(top - round(y), 1.0)
+
+    def row_drag_moved(self, pixels_below_top: float) -> None:
+        """The taken edge follows the pointer: the rows above it share its distance from the
+        top of the rows."""
+        if self._row_drag:
+            self.set_row_pixels(round(pixels_below_top / self._row_drag))
 
     def visible_rows(self) -> list[str]:
         """The poses whose track rows are on screen, top first."""
@@ -465,7 +583,10 @@ class TimelinePanel(QWidget):
         frames = [k.frame for t in timeline.tracks for k in t.keys]
         lo, hi = min([timeline.start, *frames]), max([timeline.end, *frames])
         span = max(hi - lo, 1)
-        self.tracks.setXRange(lo - 0.02 * span, hi + 0.02 * span, padding=0)
+        margin = max(0.02 * span, 1.0)
+        # panning and zooming stop at the first frame: nothing is ever before it
+        self.track_box.setLimits(xMin=lo - margin)
+        self.tracks.setXRange(lo - margin, hi + margin, padding=0)
         self._framed = (timeline.start, timeline.end)
 
     def _follow_playhead(self) -> None:
@@ -592,6 +713,7 @@ class TimelinePanel(QWidget):
         try:
             self.playhead.setValue(frame)
             self.curve_playhead.setValue(frame)
+            self.ruler_playhead.setValue(frame)
         finally:
             self._updating = False
         self._follow_playhead()
@@ -616,6 +738,13 @@ class TimelinePanel(QWidget):
         self.player.stop()
         self.doc.show_frame(self.doc.project.timeline.end)
 
+    def scrub_to(self, x: float) -> None:
+        """Move the playhead to the whole frame nearest ``x``, within the frame range."""
+        timeline = self.doc.project.timeline
+        frame = min(max(round(x), timeline.start), timeline.end)
+        if frame != self.doc.frame:
+            self.doc.show_frame(frame)
+
     def _playhead_dragged(self) -> None:
         if self._updating:
             return
@@ -624,13 +753,6 @@ class TimelinePanel(QWidget):
             self.doc.show_frame(frame)
         else:
             self._show_playhead()  # snap the line to the whole frame
-
-    def _curve_clicked(self, ev) -> None:
-        vb = self.curves.getViewBox()
-        if (ev.button() == Qt.MouseButton.LeftButton
-                and vb.sceneBoundingRect().contains(ev.scenePos())):
-            pos = vb.mapSceneToView(ev.scenePos())
-            self.doc.show_frame(round(pos.x()))
 
     # --- key editing ---------------------------------------------------------------------------
     def _select(self, refs: set[KeyRef]) -> None:
@@ -643,7 +765,7 @@ class TimelinePanel(QWidget):
         self.view.setFocus()
         hit = self.key_at(pos)
         if hit is not None:
-            self.current_pose = hit[0]
+            self.set_current_pose(hit[0])
             extend = modifiers & (Qt.KeyboardModifier.ControlModifier
                                   | Qt.KeyboardModifier.ShiftModifier)
             if extend:
@@ -655,7 +777,7 @@ class TimelinePanel(QWidget):
         if pose is None:
             self._select(set())
             return
-        self.current_pose = pose
+        self.set_current_pose(pose)
         ref = self.edits.add_key(pose, float(round(pos.x())), self.value_at_y(pos.y()))
         self._select({ref})
 
@@ -668,7 +790,7 @@ class TimelinePanel(QWidget):
             return
         if hit not in self.selection:
             self._select({hit})
-        self.current_pose = hit[0]
+        self.set_current_pose(hit[0])
         self._drag = {"scrub": False, "origin": pos, "base": self.edits.state(),
                       "refs": sorted(self.selection), "gesture": new_gesture(), "axis": None}
 
@@ -677,10 +799,7 @@ class TimelinePanel(QWidget):
         if drag is None:
             return
         if drag["scrub"]:
-            timeline = self.doc.project.timeline
-            frame = min(max(round(pos.x()), timeline.start), timeline.end)
-            if frame != self.doc.frame:
-                self.doc.show_frame(frame)
+            self.scrub_to(pos.x())
             return
         origin = drag["origin"]
         dframe = float(round(pos.x() - origin.x()))
@@ -714,13 +833,39 @@ class TimelinePanel(QWidget):
         if self.clipboard:
             self._select(set(self.edits.paste_keys(self.clipboard, round(self.doc.frame))))
 
+    def set_current_pose(self, pose: str | None) -> None:
+        """The pose K keys (the last edited, in a row or on its Poses slider), marked by a band
+        across its row and its row scrolled into view."""
+        self.current_pose = pose if pose in self.poses else None
+        if self.current_pose is None:
+            self.row_marker.setVisible(False)
+            return
+        row = self.row_of(self.current_pose)
+        self.row_marker.setRegion((row, row + 1))
+        self.row_marker.setVisible(True)
+        if self.rows.isVisible():
+            index = self.poses.index(self.current_pose)
+            top, fit = self.rows.value(), self.rows.pageStep()
+            if not top <= index < top + fit:
+                self.rows.setValue(min(index, self.rows.maximum()))
+
     def key_current_pose(self) -> None:
-        """Key the current row's pose at the playhead with its present weight (the slider)."""
+        """K: key the last edited pose at the playhead with the weight it has now (the slider's
+        value), and say so in the status bar, since the row may be scrolled out of view."""
         pose = self.current_pose
         if pose is None:
             return
         value = self.doc.pose_weights.get(pose, 0.0)
-        self._select({self.edits.add_key(pose, float(round(self.doc.frame)), value)})
+        frame = float(round(self.doc.frame))
+        self._select({self.edits.add_key(pose, frame, value)})
+        self.set_current_pose(pose)
+        self.say(f"Keyed {pose_label(pose)} at frame {frame:g}: weight {value:.2f}")
+
+    def say(self, text: str) -> None:
+        """A line in the main window's status bar (nothing when the panel stands alone)."""
+        bar = getattr(self.window(), "statusBar", None)
+        if callable(bar):
+            bar().showMessage(text, 6000)
 
     def _interpolation_chosen(self, index: int) -> None:
         if self.selection and index >= 0:

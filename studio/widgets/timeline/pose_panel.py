@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from PySide6.QtCore import Qt
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QColor, QPainter
 from PySide6.QtWidgets import (
     QFormLayout,
@@ -52,6 +52,8 @@ def pose_label(name: str) -> str:
 
 
 class PosePanel(QScrollArea):
+    poseEdited = Signal(str)  # a pose's slider or field was moved by the user (K keys it)
+
     def __init__(self, document: Document, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.doc = document
@@ -82,7 +84,7 @@ class PosePanel(QScrollArea):
         self.pose_rows = {}
         for pose in self.doc.project.poses:
             row = SliderRow(pose_label(pose.name))
-            row.edited.connect(lambda v, g, n=pose.name: self.doc.set_pose_weight(n, v, g))
+            row.edited.connect(lambda v, g, n=pose.name: self._pose_edited(n, v, g))
             pose_layout.addWidget(row)
             self.pose_rows[pose.name] = row
         reset = QPushButton("Back to neutral")
@@ -111,6 +113,10 @@ class PosePanel(QScrollArea):
         layout.addStretch(1)
         self.setWidget(body)
         self._show_values()
+
+    def _pose_edited(self, name: str, value: float, gesture: int | None) -> None:
+        self.doc.set_pose_weight(name, value, gesture)
+        self.poseEdited.emit(name)
 
     def _apply_filter(self, text: str) -> None:
         """Rows whose pose name contains the text (any case), like the shape-key filter of a

@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QAction, QKeySequence
 
+from studio.widgets.hover_keys import install_hover_keys
 from studio.widgets.timeline.panel import TimelinePanel
 
 
@@ -39,4 +40,9 @@ def install_timeline_tools(window) -> TimelinePanel:
     window.timeline_panel = panel
     window._add_dock("Timeline", panel, Qt.DockWidgetArea.BottomDockWidgetArea)
     panel.setMinimumHeight(150)
+    window.pose_panel.poseEdited.connect(panel.set_current_pose)  # K keys the slider just moved
+    # Blender's hover keys: Space and K over the timeline, F over the viewport, no click first
+    hover = install_hover_keys(window)
+    hover.add(panel, {Qt.Key.Key_Space: panel.player.toggle, Qt.Key.Key_K: panel.key_current_pose})
+    hover.add(window.viewport, {Qt.Key.Key_F: lambda: window.frame_face_front()})
     return panel
