@@ -149,10 +149,11 @@ def test_combing_across_the_motion_fades_the_wrinkles_while_dragging(window, qtb
 def test_the_comb_says_what_it_needs_and_shares_the_viewport_with_select(window, qtbot):
     """C with nothing selected: a drag changes nothing and the status bar says to select first.
     S and C take the viewport from each other, the toolbar and the panel's button following;
-    C again leaves the comb.
-    Red once with the bug put back by hand: without unchecking the select action when the
+    C again leaves the comb; with no area left its button waits for one.
+    Red once with each bug put back by hand: without unchecking the select action when the
     comb is taken (``select.setChecked(False)`` removed in ``install_comb``), "Select
-    vertices" stayed checked under the comb."""
+    vertices" stayed checked under the comb; without ``currentAreaChanged`` connected in
+    ``CombControls`` the button stayed enabled with no area."""
     doc, tools = window.doc, window.wdv_tools
     assert not doc.selection.any()
     window.viewport.setFocus()
@@ -178,3 +179,17 @@ def test_the_comb_says_what_it_needs_and_shares_the_viewport_with_select(window,
     qtbot.keyClick(window, Qt.Key.Key_C)
     assert window.viewport.tool is None
     assert not tools.panel.comb_controls.button.isChecked()
+
+    # no area left: the button waits for one, and the key says what to do
+    while doc.project.wdv.areas:
+        qtbot.mouseClick(tools.panel.delete_button, Qt.MouseButton.LeftButton)
+        if tools.current_area is None and doc.project.wdv.areas:
+            item = tools.panel.area_list.item(0)
+            qtbot.mouseClick(tools.panel.area_list.viewport(), Qt.MouseButton.LeftButton,
+                             pos=tools.panel.area_list.visualItemRect(item).center())
+    assert not tools.panel.comb_controls.button.isEnabled()
+    window.viewport.setFocus()
+    qtbot.keyClick(window, Qt.Key.Key_C)
+    drag(qtbot, window.viewport, start, end)
+    assert "pick or add a vector area" in window.statusBar().currentMessage()
+    assert doc.undo_stack.count() == steps + 3  # the three deletions only

@@ -19,7 +19,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-from PySide6.QtCore import QSignalBlocker, Qt
+from PySide6.QtCore import QSignalBlocker, Qt, Signal
 from PySide6.QtGui import QAction, QKeySequence, QMouseEvent
 from PySide6.QtWidgets import QDoubleSpinBox, QFormLayout, QPushButton, QVBoxLayout, QWidget
 
@@ -41,6 +41,7 @@ from studio.widgets.wdv.select_tool import (
 )
 
 if TYPE_CHECKING:
+    from studio.core.wrinkles.wdv import WdvArea
     from studio.widgets.viewport.viewport import Viewport
 
 SPACING = 3.0  # device pixels the pointer moves between dabs: the stroke's direction is stable
@@ -163,10 +164,14 @@ class CombTool:
 
 
 class CombOwner(Protocol):
-    """``WdvTools`` as the panel's controls and the action see it: the comb, and (once
-    installed) the select and comb actions."""
+    """``WdvTools`` as the panel's controls and the action see it: the comb, the current
+    area and its signal, and (once installed) the select and comb actions."""
 
     comb: CombTool
+    currentAreaChanged: Signal
+
+    @property
+    def current_area(self) -> WdvArea | None: ...
 
 
 class CombControls(QWidget):
@@ -198,6 +203,12 @@ class CombControls(QWidget):
         form.addRow("Strength", self.strength)
         form.addRow("Hardness", self.hardness)
         layout.addLayout(form)
+        # like Create, the button waits for an area to comb (the key says why in the status bar)
+        tools.currentAreaChanged.connect(self._show_area)
+        self._show_area()
+
+    def _show_area(self) -> None:
+        self.button.setEnabled(self.tools.current_area is not None or self.button.isChecked())
 
     def _spin(self, low: float, high: float, value: float, suffix: str, decimals: int, tip: str,
               field: str, factor: float = 1.0) -> QDoubleSpinBox:
@@ -219,6 +230,7 @@ class CombControls(QWidget):
         blocker = QSignalBlocker(self.button)
         self.button.setChecked(on)
         del blocker
+        self._show_area()
 
 
 def install_comb(window, tools: CombOwner, controls: CombControls) -> QAction:
