@@ -20,6 +20,11 @@ MUTANT_TEST_SECONDS = float(os.environ.get("MUTANT_TEST_SECONDS", "2"))
 def pytest_configure(config: pytest.Config) -> None:
     os.environ["XDG_CONFIG_HOME"] = tempfile.mkdtemp(prefix="wrinkle-settings-")
     os.environ["XDG_DATA_HOME"] = tempfile.mkdtemp(prefix="wrinkle-data-")
+    os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp(prefix="wrinkle-cache-")
+    # Getting started shows itself at a first start: the tests that want it say so
+    conf_dir = Path(os.environ["XDG_CONFIG_HOME"]) / "WrinkleStudio"
+    conf_dir.mkdir(parents=True, exist_ok=True)
+    (conf_dir / "Wrinkle Studio.conf").write_text("[getting_started]\nseen=true\n")
     try:
         from studio.app import configure_opengl
     except ImportError:  # Qt missing: the GUI tests will say so themselves

@@ -23,6 +23,7 @@ from PySide6.QtWidgets import (
     QScrollArea,
 )
 
+from studio.widgets.slider_row import SliderRow
 from tests.gui_helpers import bring_forward, viewport_image
 
 RIGHT_COLUMN = ("Poses", "Shading", "Areas", "Wrinkle vectors")
@@ -56,6 +57,10 @@ def test_every_panel_fits_its_column_and_no_button_is_cut(open_window, window_si
                 bar = area.horizontalScrollBar()
                 assert not bar.isVisible() and bar.maximum() == 0, \
                     f"{title}: a horizontal scroll bar ({bar.maximum()} px too wide)"
+        for row in dock.findChildren(SliderRow):
+            if row.isVisible():
+                assert row.slider.width() >= 100, \
+                    f"{title}: the slider of {row.label.text()} is {row.slider.width()} px"
         for button in dock.findChildren(QAbstractButton):
             if button.isVisible() and button.text():
                 assert button.width() >= button.sizeHint().width() - 1, \
@@ -151,3 +156,63 @@ def test_solo_shows_one_area_and_again_all(window, qtbot):
     assert all(a.visible for a in areas)
     doc.undo_stack.undo()
     assert [a.visible for a in areas] == [i == 2 for i in range(len(areas))]
+
+
+def test_the_sample_opens_on_an_expression_and_save_as_starts_outside_the_studio(
+        open_window, qtbot, monkeypatch, tmp_path):
+    """The first thing a person sees shows what the tool does (an expression at its height,
+    not a neutral face), and Save As does not offer the studio's own install folder."""
+    from PySide6.QtWidgets import QFileDialog
+
+    from studio.paths import resource_dir
+    from studio.widgets.main_window import sample_project, settings
+
+    settings().setValue("last_folder", str(tmp_path / "somewhere.wrinkle"))
+    window = open_window(sample_project())
+    doc = window.doc
+    assert doc.frame > doc.project.timeline.start
+    assert max(doc.pose_weights.values()) == pytest.approx(1.0)
+    started: list[str] = []
+
+    def ask(parent, title, start, *args, **kwargs):
+        started.append(start)
+        return "", ""
+
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", staticmethod(ask))
+    save_as = next(a for a in window.menus["File"].actions() if "Save As" in a.text()
+                   .replace("&", ""))
+    save_as.trigger()
+    assert started and not str(started[0]).startswith(str(resource_dir().resolve()))
+    assert started[0].startswith(str(tmp_path))
+
+
+def test_getting_started_shows_at_the_first_start_only_and_help_brings_it_back(qtbot, dialogs,
+                                                                               sample):
+    from studio.widgets.getting_started import SEEN_KEY
+    from studio.widgets.main_window import MainWindow, settings
+
+    settings().remove(SEEN_KEY)  # a first start
+    windows = []
+    for _ in range(2):
+        w = MainWindow(copy_of(sample))
+        w.resize(1200, 800)
+        w.show()
+        qtbot.waitExposed(w)
+        qtbot.wait(50)
+        windows.append(w)
+    first, second = (w.docks["Getting started"] for w in windows)
+    assert first.isVisible() and not first.visibleRegion().isEmpty()  # in front of its tabs
+    assert "Technique 1" in first.widget().toPlainText()
+    assert second.isHidden()  # seen once: not again
+    help_entry = next(a for a in windows[1].menus["Help"].actions() if "Getting" in a.text())
+    help_entry.trigger()
+    qtbot.waitUntil(lambda: not second.visibleRegion().isEmpty(), timeout=3000)
+    for w in windows:
+        w.doc.undo_stack.setClean()
+        w.close()
+
+
+def copy_of(project):
+    import copy
+
+    return copy.deepcopy(project)

@@ -241,7 +241,7 @@ def test_a_panels_toolbar_button_brings_it_from_behind_another_tab(window, qtbot
     click_tab(qtbot, window, "Poses")
     canvas = window.mask_tools.canvas
     qtbot.waitUntil(lambda: canvas.visibleRegion().isEmpty())  # behind the Poses tab
-    button = window.tools.widgetForAction(dock.toggleViewAction())
+    button = window.panels_bar.widgetForAction(dock.toggleViewAction())
     qtbot.mouseClick(button, Qt.MouseButton.LeftButton)
     qtbot.waitUntil(lambda: not canvas.visibleRegion().isEmpty())  # in front, not closed
     assert not dock.isHidden() and canvas.width() > 200

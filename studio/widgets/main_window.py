@@ -26,6 +26,7 @@ from studio.widgets.app_settings import last_folder, settings
 from studio.widgets.autosave import install_autosave
 from studio.widgets.background import run_with_progress
 from studio.widgets.document import Document
+from studio.widgets.getting_started import install_getting_started
 from studio.widgets.maps.auto_tools import install_auto_tools
 from studio.widgets.maps.bake_tools import install_bake_tools
 from studio.widgets.maps.map_tools import install_map_tools
@@ -42,15 +43,22 @@ PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
 # The default layout: these panels as tabs in one right-hand column, in this order.
 RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "UV Paint")
-SIDE_WIDTH = 340  # pixels: the right-hand column
+SIDE_WIDTH = 360  # pixels: the right-hand column (a pose slider gets 100 of them)
 TIMELINE_HEIGHT = 200  # pixels: the timeline strip under the viewport
 
 
 def sample_project() -> Project:
-    """The bundled sample: the ICT-FaceKit head, set up (built once per process)."""
-    from studio.core.setup.sample_setup import sample_project as ready
+    """The bundled sample: the ICT-FaceKit head, set up (kept set up in the user's cache)."""
+    from studio.widgets.sample_cache import cached_sample
 
-    return ready()
+    return cached_sample()
+
+
+def _installed(path: Path) -> bool:
+    """Whether ``path`` is one of the studio's own files (the sample head's resource)."""
+    from studio.paths import resource_dir
+
+    return path.resolve().is_relative_to(resource_dir().resolve())
 
 
 class _ColumnPanel(QScrollArea):
@@ -81,6 +89,11 @@ class MainWindow(QMainWindow):
         self.docks["History"].hide()
         self.tools = self.addToolBar("Tools")
         self.tools.setObjectName("toolbar:tools")
+        # panel toggles apart from the tools, under their own word: they open panels, they are
+        # not modes of the viewport
+        self.panels_bar = self.addToolBar("Panels")
+        self.panels_bar.setObjectName("toolbar:panels")
+        self.panels_bar.addWidget(QLabel(" Panels: "))
         # --- authoring panels and tools: one install call each (technique 2, technique 1,
         # timeline), kept in their own modules ---
         install_mask_tools(self)  # technique 1: influence areas, UV paint, face paint
@@ -97,6 +110,7 @@ class MainWindow(QMainWindow):
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
         install_capture_tools(self)  # File ▸ Import Capture…, needs the menus and timeline
         self._arrange_docks()
+        install_getting_started(self)  # Help ▸ Getting Started; shown at the first start
         self.doc.modifiedChanged.connect(self.setWindowModified)
         self.doc.pathChanged.connect(self._update_title)
         self.doc.projectReplaced.connect(self._update_title)
@@ -401,9 +415,9 @@ class MainWindow(QMainWindow):
         if self.doc.path is not None:
             return str(Path(self.doc.path).parent)
         source = self.doc.project.mesh.source
-        if source and Path(source).parent.is_dir():
+        if source and Path(source).parent.is_dir() and not _installed(Path(source)):
             return str(Path(source).parent)
-        return self._last_folder()
+        return self._last_folder()  # (the bundled sample's is the studio's own folder)
 
     def recent_files(self) -> list[str]:
         value = settings().value("recent_files", [])

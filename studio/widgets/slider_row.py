@@ -12,6 +12,8 @@ from PySide6.QtWidgets import QDoubleSpinBox, QHBoxLayout, QLabel, QSlider, QWid
 from studio.widgets.commands import new_gesture
 
 STEPS = 1000
+LABEL_WIDTH = 96  # pixels: an ARKit name such as "mouthShrugLower" in the default font
+FIELD_WIDTH = 64
 
 
 class SliderRow(QWidget):
@@ -22,7 +24,10 @@ class SliderRow(QWidget):
         super().__init__(parent)
         self.minimum, self.maximum = minimum, maximum
         self.label = QLabel(label)
-        self.label.setMinimumWidth(110)
+        # a fixed column in a 300-pixel panel leaves the slider room to be dragged (a 110-pixel
+        # label and a 78-pixel field left it 58); the whole name is in the tooltip
+        self.label.setFixedWidth(LABEL_WIDTH)
+        self.label.setToolTip(label)
         self.slider = QSlider(Qt.Orientation.Horizontal)
         self.slider.setRange(0, STEPS)
         self.slider.setObjectName(f"slider:{label}")
@@ -32,7 +37,7 @@ class SliderRow(QWidget):
         self.spin.setSingleStep((maximum - minimum) / 100.0)
         self.spin.setSuffix(suffix)
         self.spin.setKeyboardTracking(False)
-        self.spin.setFixedWidth(78)
+        self.spin.setFixedWidth(FIELD_WIDTH)
         layout = QHBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)
         layout.addWidget(self.label)

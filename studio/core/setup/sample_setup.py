@@ -67,6 +67,11 @@ def ready_sample(progress: Callable[[int, int], bool] | None = None) -> Project 
         return None
     project.name = "ICT-FaceKit head (sample)"
     project.timeline = expression_timeline()
+    # it opens on the first expression at its height, wrinkles showing, not on a neutral face
+    first = project.timeline.tracks[0].keys
+    frame = (first[1].frame + first[2].frame) / 2
+    project.view["frame"] = frame
+    project.view["pose_weights"] = project.timeline.weights_at(frame)
     return project
 
 

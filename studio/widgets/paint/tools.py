@@ -44,7 +44,7 @@ class MaskTools:
         window.tools.addAction(self.action)
         for title in ("Areas", "UV Paint"):
             menu_action = window.docks[title].toggleViewAction()
-            window.tools.addAction(menu_action)
+            window.panels_bar.addAction(menu_action)
 
     def _remember_brush(self) -> None:
         """The brush (size, softness, flow, mirror mode) as the user last left it, and kept so."""

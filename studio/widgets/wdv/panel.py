@@ -92,7 +92,7 @@ class WdvPanel(QScrollArea):
 
     def _build_areas_box(self) -> QGroupBox:
         """The area list with its buttons, and the current area's pose, cone, colour and map."""
-        areas = QGroupBox("Areas")
+        areas = QGroupBox("Vector areas")  # (the Areas panel holds technique 1's masks)
         a_layout = QVBoxLayout(areas)
         self.area_list = QListWidget()
         self.area_list.setMaximumHeight(130)
