@@ -175,3 +175,22 @@ def test_reduced_sizes():
     assert scaled_size((1728, 972), Fraction(1, 3)) == (576, 324)
     assert scaled_size((1728, 972), HALF) == (864, 486)
     assert scaled_size((5, 3), Fraction(1, 6)) == (1, 1)
+
+
+def test_a_playing_timeline_is_drawn_at_half_size_at_least(window, qtbot):
+    """While the timeline plays, a slow frame is drawn at half size, not a blocky sixth: the
+    player skips frames to keep time instead (seen red with the floor taken out: 1/6)."""
+    from studio.render.reduced import PLAYING_FLOOR
+
+    vp = window.viewport
+    player = window.timeline_panel.player
+    player.play()
+    try:
+        assert vp.motion.floor == PLAYING_FLOOR == HALF
+        vp.motion.record(Fraction(1, 6), 400.0)  # far over the budget: the smallest allowed
+        assert vp.motion.scale == HALF
+    finally:
+        player.stop()
+    assert vp.motion.floor == SCALES[-1]  # stopped: orbiting may reduce further again
+    vp.motion.record(HALF, 400.0)
+    assert vp.motion.scale == SCALES[-1]

@@ -21,6 +21,9 @@ from studio.render.shaders import build_program
 SCALES = (Fraction(1), Fraction(1, 2), Fraction(1, 3), Fraction(1, 4), Fraction(1, 5),
           Fraction(1, 6))
 TARGET_FPS = 20.0
+#: The smallest share a played frame is drawn at: furrows a few pixels wide stay furrows at a
+#: half, and turn to blur at a sixth.
+PLAYING_FLOOR = Fraction(1, 2)
 #: The least time left for drawing whatever the rest of a frame takes (Qt composing the
 #: window, the events): below it the smallest scale is drawn anyway.
 MIN_BUDGET_MS = 10.0
@@ -44,6 +47,10 @@ class MotionScale:
     def __init__(self, frame_ms: float = 1000.0 / TARGET_FPS) -> None:
         """``frame_ms``: the time one frame may take, drawing and the rest."""
         self.frame_ms = frame_ms
+        # the smallest share drawn: 1/6 while orbiting (the shape is what is looked at), kept
+        # at PLAYING_FLOOR while the timeline plays (the wrinkles are what is looked at, and a
+        # played frame may be late: the player skips frames to keep time)
+        self.floor = SCALES[-1]
         self.budget_ms = frame_ms  # of it, the drawing's share (see ``record``)
         self.scale = SCALES[0]
         self._known = False  # no moving frame timed yet
@@ -53,8 +60,9 @@ class MotionScale:
         drawing (Qt composing the window: a software renderer pays for it by the window's
         pixels) takes ``rest_ms``: choose the next one's scale."""
         self.budget_ms = max(self.frame_ms - rest_ms, MIN_BUDGET_MS)
-        chosen = SCALES[-1]
-        for candidate in SCALES:
+        allowed = [c for c in SCALES if c >= self.floor]
+        chosen = allowed[-1]
+        for candidate in allowed:
             predicted = ms * float(candidate / scale) ** 2
             limit = self.budget_ms * (GROW_MARGIN if candidate > scale else 1.0)
             if predicted <= limit:

@@ -98,6 +98,7 @@ class MainWindow(QMainWindow):
         # timeline), kept in their own modules ---
         install_mask_tools(self)  # technique 1: influence areas, UV paint, face paint
         install_timeline_tools(self)  # timeline, playback, animation export
+        self.timeline_panel.player.playingChanged.connect(self.viewport.set_playing)
         install_wdv_tools(self)  # technique 2: wrinkle direction vectors
         install_autosave(self)  # autosave, crash recovery, undo memory budget
         install_wheel_guard()  # the wheel scrolls panels; it edits a field only once focused

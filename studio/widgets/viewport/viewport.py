@@ -27,7 +27,13 @@ from PySide6.QtWidgets import QLabel, QWidget
 from studio.core.files.errors import RenderError
 from studio.core.wrinkles.techniques import SPLIT, TECHNIQUES
 from studio.render.gl_info import describe_gl, gl_version, is_software
-from studio.render.reduced import SCALES, MotionScale, ReducedTarget, scaled_size
+from studio.render.reduced import (
+    PLAYING_FLOOR,
+    SCALES,
+    MotionScale,
+    ReducedTarget,
+    scaled_size,
+)
 from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
 from studio.render.settings import render_settings
@@ -315,6 +321,12 @@ class Viewport(QOpenGLWidget):
             elif bar().currentMessage() == self._said:
                 bar().clearMessage()
         self._said = text
+
+    def set_playing(self, playing: bool) -> None:
+        """While the timeline plays, frames are drawn at half size at least (see
+        ``MotionScale.floor``): a person watching an expression play looks at its wrinkles."""
+        self.motion.floor = PLAYING_FLOOR if playing else SCALES[-1]
+        self.motion.scale = max(self.motion.scale, self.motion.floor)
 
     def set_reduce_while_moving(self, on: bool) -> None:
         """View ▸ Reduce Resolution While Moving: on a software renderer, draw moving frames
