@@ -15,6 +15,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     target.add_argument("--gltf", help="binary glTF file to write (.glb)")
     target.add_argument("--folder", help="folder for face.glb, mask PNGs, wrinkles.json, GLSL "
                                           "and blender_wrinkles.py (technique 1 in Blender)")
+    target.add_argument("--web", metavar="DIR",
+                        help="folder for index.html: a page that plays the face with both "
+                             "techniques in any browser, offline (?pose=NAME&weight=W&"
+                             "technique=none|t1|t2 links to a pose)")
     p.add_argument("--bits", type=int, choices=(8, 16), default=16, help="per-area mask depth")
     p.add_argument("--layout", choices=list(LAYOUTS),
                    help="with --folder: repack masks and wrinkle maps the way that engine's "
@@ -36,6 +40,8 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.project.gltf import save_gltf
     from studio.core.project.reader import load_project
 
+    if args.web:
+        return run_web(args)
     if args.gltf:
         if args.layout:
             raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
@@ -62,4 +68,34 @@ def run(args: argparse.Namespace) -> int:
     else:
         files = export_folder(project, args.folder, args.bits)
         print(f"wrote {len(files)} files to {args.folder}")
+    return 0
+
+
+def run_web(args: argparse.Namespace) -> int:
+    """The web player, seen as ``render --frame face --yaw 0`` sees the face and lit as
+    ``render`` lights it, so that the page and the studio's picture of a pose agree."""
+    from studio.core.files.errors import StudioError
+    from studio.core.files.safe_io import check_output_folder
+    from studio.core.mesh.camera import OrbitCamera
+    from studio.core.project.reader import load_project
+    from studio.core.project.view_settings import ViewSettings
+    from studio.core.project.web_export import WebLook, export_web
+    from studio.core.setup.face_frame import aim
+    from studio.render.settings import render_settings
+
+    if args.layout:
+        raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
+    check_output_folder(args.web, what="web folder")
+    project = load_project(Path(args.project))
+    camera = OrbitCamera.from_dict(project.view.get("camera", {}))
+    aim(camera, project, "face")
+    camera.yaw = 0.0
+    settings = render_settings(ViewSettings())
+    look = WebLook(light_dir=settings.light_dir, ambient=settings.ambient,
+                   specular=settings.specular, shininess=settings.shininess,
+                   background=settings.background, blend=settings.blend,
+                   tangent_frame=settings.tangent_frame)
+    files = export_web(project, args.web, camera, look)
+    size = sum(f.stat().st_size for f in files)
+    print(f"wrote {files[0]} ({size / 1e6:.1f} MB; open it in a browser, no network needed)")
     return 0

@@ -1,0 +1,245 @@
+"""A web player: one self-contained ``index.html`` that shows the face with both techniques.
+
+The page is our own small WebGL2 renderer (``resources/web/player.js``) rather than three.js:
+the wrinkles are the studio's own shaders (``shaders/face.vert``, ``face.frag``,
+``common.glsl``), carried into the page as text and compiled there as GLSL ES 3.00, so the web
+shading cannot drift from the studio's; a general-purpose engine would have needed the same
+shaders re-written into its material system anyway.
+
+Everything the page needs travels inside the one file, so it opens from ``file://`` with no
+network (Chromium refuses ``fetch`` and modules there): the face's arrays and images are one
+zlib-compressed, base64 blob in a ``<script type="application/octet-stream">`` element,
+inflated by the browser's ``DecompressionStream``.
+
+What the page computes per frame, and where the studio computes the same:
+
+* positions, normals and tangents: the neutral frame plus each pose's weighted deltas of all
+  three, taken from ``DeformCache`` (the studio's own normals and tangents at each key pose)
+  and renormalised — exact at a key pose, as glTF morph targets are; between poses the studio
+  recomputes normals from the blended positions, which differs by a fraction of a degree;
+* technique 1's activations: each area's own value plus ``gain · curve(weight)`` of its links,
+  clamped, with each link's response curve sampled at ``CURVE_SAMPLES`` points by the studio's
+  own ``ResponseCurve.evaluate`` (linear in between: exact for linear links);
+* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+import zlib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from studio.core.files.atomic_write import write_atomic
+from studio.core.mesh.camera import OrbitCamera
+from studio.core.mesh.geometry import DeformCache
+from studio.core.project.export import quantise
+from studio.core.project.gltf_animation import pose_weights, sample_frames
+from studio.core.project.model import Project
+from studio.core.wrinkles.response import curve_of
+from studio.core.wrinkles.textures import pack_more_maps, pack_normal_maps
+from studio.paths import resource_dir, shader_dir
+
+#: points at which each pose → area link's response curve is sampled for the page
+CURVE_SAMPLES = 257
+#: the studio's shader files the page compiles (``#include`` is resolved in the page)
+WEB_SHADERS = ("common.glsl", "face.vert", "face.frag")
+#: a pose delta smaller than this (model units, or unit-vector components) is left out
+DELTA_EPSILON = 1e-7
+
+
+@dataclass(frozen=True)
+class WebLook:
+    """How the studio draws: the render settings' light and blend, for the page's uniforms."""
+
+    light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)
+    ambient: float = 0.1
+    specular: float = 0.12
+    shininess: float = 20.0
+    background: tuple[float, float, float] = (0.16, 0.17, 0.19)
+    blend: str = "colour"
+    tangent_frame: str = "mikktspace"
+
+
+class _Blob:
+    """Arrays laid end to end in one byte string, each named with its dtype, shape and offset,
+    so the page reads them back as typed arrays without parsing anything else."""
+
+    def __init__(self) -> None:
+        self.parts: list[bytes] = []
+        self.index: dict[str, dict] = {}
+        self.size = 0
+
+    def add(self, name: str, array: np.ndarray) -> None:
+        array = np.ascontiguousarray(array)
+        kinds = {np.dtype("float32"): "f4", np.dtype("uint32"): "u4", np.dtype("int16"): "i2",
+                 np.dtype("uint8"): "u1"}
+        if array.dtype not in kinds:
+            raise TypeError(f"{name}: {array.dtype} is not a type the page reads")
+        pad = -self.size % 4  # typed arrays need aligned offsets
+        self.parts.append(b"\0" * pad)
+        self.size += pad
+        self.index[name] = {"type": kinds[array.dtype], "shape": list(array.shape),
+                            "offset": self.size}
+        data = array.tobytes()
+        self.parts.append(data)
+        self.size += len(data)
+
+    def payload(self) -> str:
+        return base64.b64encode(zlib.compress(b"".join(self.parts), 6)).decode("ascii")
+
+
+def as_rgba8(image: np.ndarray) -> np.ndarray:
+    """An image as 8-bit RGBA (WebGL2 has no 16-bit normalised textures without an extension):
+    16-bit channels keep their top byte, missing channels are 0 (alpha 255)."""
+    if image.dtype == np.uint16:
+        image = (image >> 8).astype(np.uint8)
+    image = np.asarray(image, np.uint8)
+    if image.ndim == 2:
+        image = image[..., None]
+    out = np.zeros((*image.shape[:-1], 4), np.uint8)
+    out[..., 3] = 255
+    channels = min(image.shape[-1], 4)
+    out[..., :channels] = image[..., :channels]
+    return out
+
+
+def pose_deltas(project: Project, frame: str, blob: _Blob) -> list[dict]:
+    """Per key pose, the render vertices it changes and the change of their position, normal
+    and tangent against the neutral frame (which goes in as ``rest``), as 16-bit integers with
+    a scale per pose and per kind: most of a page's bytes are these, and float32 halves
+    nothing under zlib. A step is 1/32767 of the pose's largest change of that kind."""
+    mesh = project.mesh
+    cache = DeformCache(mesh, frame)
+    rest = cache.update(mesh.rest).copy()
+    blob.add("rest", rest.astype(np.float32))  # (V, 10): position, normal, tangent xyzw
+    poses = []
+    for k, pose in enumerate(project.poses):
+        posed = cache.update(pose.positions)
+        delta = posed[:, :9] - rest[:, :9]
+        moved = np.flatnonzero(np.abs(delta).max(axis=1) > DELTA_EPSILON)
+        kinds = delta[moved].reshape(-1, 3, 3)  # (moved, position | normal | tangent, xyz)
+        largest = np.abs(kinds).max(axis=(0, 2)) if len(moved) else np.zeros(3)
+        step = np.where(largest > 0, largest, 1.0) / 32767.0
+        blob.add(f"pose{k}.vertices", moved.astype(np.uint32))
+        blob.add(f"pose{k}.deltas", np.round(kinds / step[None, :, None]).astype(np.int16)
+                 .reshape(len(moved), 9))
+        poses.append({"name": pose.name, "vertices": len(moved),
+                      "step": [float(v) for v in step]})
+    return poses
+
+
+def t1_links(project: Project) -> tuple[list[dict], np.ndarray]:
+    """Each pose → area link as (pose, area, gain) with its response curve sampled on [0, 1],
+    and the areas' own values (0 for hidden areas, which the studio never shows)."""
+    influence = project.influence
+    areas = [a.name for a in influence.areas]
+    poses = [p.name for p in project.poses]
+    xs = np.linspace(0.0, 1.0, CURVE_SAMPLES)
+    links = []
+    for pose, targets in influence.links.items():
+        if pose not in poses:
+            continue
+        for area, gain in targets.items():
+            if area not in areas:
+                continue
+            curve = curve_of(influence.curves, pose, area).evaluate(xs)
+            links.append({"pose": poses.index(pose), "area": areas.index(area),
+                          "gain": float(gain), "curve": [round(float(v), 6) for v in curve]})
+    return links, np.asarray(influence.activations({}), np.float32)  # hidden ones are 0
+
+
+def timeline_data(project: Project) -> dict | None:
+    """The timeline sampled at every frame and key (as the glTF animation is), for playing."""
+    timeline = project.timeline
+    if timeline is None or not any(t.keys for t in timeline.tracks):
+        return None
+    frames = sample_frames(timeline)
+    names = [p.name for p in project.poses]
+    weights = pose_weights(timeline, names, frames)
+    return {"fps": float(timeline.fps), "frames": [float(f) for f in frames],
+            "weights": np.round(weights, 6).tolist()}
+
+
+def camera_data(camera: OrbitCamera) -> dict:
+    """The studio's orbit camera, for the page's own ``look_at`` and ``perspective``."""
+    return {"target": [float(v) for v in camera.target], "distance": float(camera.distance),
+            "yaw": float(camera.yaw), "pitch": float(camera.pitch), "fov_y": float(camera.fov_y),
+            "radius": float(camera.radius),
+            "basis": [float(v) for v in np.asarray(camera.basis).T.ravel()]}  # columns
+
+
+def web_scene(project: Project, camera: OrbitCamera, look: WebLook) -> tuple[dict, _Blob]:
+    """Everything the page shows, as a JSON-able description and the blob of its arrays."""
+    mesh, textures = project.mesh, project.textures
+    blob = _Blob()
+    poses = pose_deltas(project, look.tangent_frame, blob)
+    blob.add("uvs", mesh.uvs.astype(np.float32))
+    blob.add("triangles", mesh.triangles.astype(np.uint32))
+    blob.add("skin", np.asarray(project.skin_weights(), np.float32)[mesh.weld])
+    slots = project.wdv.pack_slots(mesh.n_welded, textures.map_index)
+    blob.add("wdv.dirs", slots.dirs.reshape(len(slots.dirs), -1)[mesh.weld].astype(np.float32))
+    blob.add("wdv.cones", slots.cones[mesh.weld].astype(np.float32))
+    blob.add("wdv.maps", slots.maps[mesh.weld].astype(np.float32))
+    blob.add("diffuse", as_rgba8(textures.diffuse))
+    normals = pack_normal_maps(textures.normal_neutral, textures.normal_wrinkled)
+    blob.add("normals", as_rgba8(normals))
+    more = pack_more_maps(textures, normals)  # x and y only: the page's RG8 array
+    blob.add("more_maps", (more >> 8).astype(np.uint8) if more.dtype == np.uint16 else more)
+    masks = project.influence.mask_stack()
+    blob.add("masks", quantise(masks) if len(masks) else np.zeros((1, 1, 1), np.uint8))
+    links, base = t1_links(project)
+    blob.add("t1.base", base)
+    blob.add("t1.shown", np.array([a.visible for a in project.influence.areas], np.float32))
+    blob.add("t1.maps", np.array([textures.map_index(a.wrinkle_map)
+                                  for a in project.influence.areas], np.float32))
+    scene = {
+        "poses": poses,
+        "areas": [a.name for a in project.influence.areas],
+        "links": links,
+        "wrinkle_maps": len(textures.wrinkle_maps),
+        "wdv": {"expression_factor": float(project.wdv.expression_factor),
+                "scale_free": bool(project.wdv.scale_free)},
+        "camera": camera_data(camera),
+        "look": {"light_dir": list(look.light_dir), "ambient": look.ambient,
+                 "specular": look.specular, "shininess": look.shininess,
+                 "background": list(look.background), "blend": look.blend},
+        "timeline": timeline_data(project),
+        "arrays": blob.index,
+    }
+    return scene, blob
+
+
+def _script_json(value: object) -> str:
+    """JSON safe inside a ``<script>`` element (no ``</`` can close it early)."""
+    return json.dumps(value, separators=(",", ":")).replace("</", "<\\/")
+
+
+def web_page(project: Project, camera: OrbitCamera, look: WebLook = WebLook()) -> str:
+    """The player page's HTML: the template with the player, the studio's shaders and the
+    face's data put in."""
+    web = resource_dir() / "web"
+    scene, blob = web_scene(project, camera, look)
+    shaders = {name: (shader_dir() / name).read_text(encoding="utf-8") for name in WEB_SHADERS}
+    fills = {"TITLE": "Wrinkle Studio",
+             "SCENE": _script_json(scene),
+             "SHADERS": _script_json(shaders),
+             "DATA": blob.payload(),
+             "PLAYER": (web / "player.js").read_text(encoding="utf-8")}
+    page = (web / "player.html").read_text(encoding="utf-8")
+    # one pass: a pose named "{{DATA}}" in the scene is not filled in again
+    return re.sub(r"\{\{([A-Z]+)\}\}", lambda m: fills[m.group(1)], page)
+
+
+def export_web(project: Project, folder: str | Path, camera: OrbitCamera,
+               look: WebLook = WebLook()) -> list[Path]:
+    """Write ``folder/index.html`` (all or nothing); returns the files written."""
+    folder = Path(folder)
+    path = folder / "index.html"
+    write_atomic(path, web_page(project, camera, look).encode("utf-8"), make_folders=True,
+                 what="web page")
+    return [path]
