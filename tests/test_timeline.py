@@ -146,3 +146,30 @@ def test_the_thesis_sequence_by_hand():
     assert [k.frame for k in uneven.tracks[0].keys] == [0.0, 3.0, 4.0, 10.0]
     assert {k.interpolation for k in uneven.tracks[0].keys} == {"linear"}
     assert sequence_all_poses([]).end == 1  # no pose: still a timeline one frame long
+
+
+def test_a_new_key_is_a_local_change_of_the_curve():
+    """Red once: with ``insert_key`` adding no way back, the key past the last held 0.8 to the
+    end and the one on an empty track held 1 over the whole range."""
+    from studio.core.animation.timeline import insert_key
+
+    keys = [(10.0, 0.0, "cosine"), (20.0, 1.0, "cosine"), (30.0, 0.0, "linear")]
+    # between keys: only that key is added (each key shapes only the way to the next)
+    assert insert_key(keys, (25.0, 0.5, "cosine"), 0, 96) == [*keys[:2], (25.0, 0.5, "cosine"),
+                                                            keys[2]]
+    # past the last key: back to what the track held (0) at the range's end
+    assert insert_key(keys, (50.0, 0.8, "cosine"), 0, 96)[-2:] == [(50.0, 0.8, "cosine"),
+                                                                   (96.0, 0.0, "cosine")]
+    # at the weight the track held there, or on the range's end: no way back needed
+    assert insert_key(keys, (50.0, 0.0, "cosine"), 0, 96)[-1] == (50.0, 0.0, "cosine")
+    assert insert_key(keys, (96.0, 0.8, "cosine"), 0, 96)[-1] == (96.0, 0.8, "cosine")
+    # before the first key: from the range's start at the weight held there
+    assert insert_key(keys, (5.0, 0.3, "smooth"), 0, 96)[:2] == [(0.0, 0.0, "smooth"),
+                                                                 (5.0, 0.3, "smooth")]
+    # an empty track is 0 before and after its one key
+    made = insert_key([], (24.0, 1.0, "cosine"), 0, 96)
+    assert made == [(0.0, 0.0, "cosine"), (24.0, 1.0, "cosine"), (96.0, 0.0, "cosine")]
+    track = Track("p", [Key(*k) for k in made])
+    assert track.values_at([0, 24, 96]) == pytest.approx([0.0, 1.0, 0.0])
+    # a key on another key's frame replaces it
+    assert insert_key(keys, (20.0, 0.4, "linear"), 0, 96)[1] == (20.0, 0.4, "linear")

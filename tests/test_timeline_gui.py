@@ -91,7 +91,9 @@ def test_clicking_in_a_track_adds_keys_whose_height_is_the_weight(blank, qtbot):
     panel = blank.timeline_panel
     click_track(qtbot, panel, "surprise", 0, 0.0)
     click_track(qtbot, panel, "surprise", 24, 1.0)
-    assert keys(blank, "surprise") == [(0.0, 0.0, "cosine"), (24.0, 1.0, "cosine")]
+    # the track goes back to 0 at the range's end: a new key does not hold to the end
+    assert keys(blank, "surprise") == [(0.0, 0.0, "cosine"), (24.0, 1.0, "cosine"),
+                                       (96.0, 0.0, "cosine")]
     assert blank.doc.undo_stack.count() == 2
     assert panel.selection == {("surprise", 1)}
     # Parke's cosine: half-way in time is half the weight, a quarter is (1 − cos(π/4)) / 2
@@ -216,19 +218,20 @@ def test_delete_copy_paste_and_sequence_all_poses_undo(blank, qtbot):
     qtbot.keyClick(panel.view, Qt.Key.Key_C, Qt.KeyboardModifier.ControlModifier)
     blank.doc.show_frame(40)
     qtbot.keyClick(panel.view, Qt.Key.Key_V, Qt.KeyboardModifier.ControlModifier)
-    assert [k[:2] for k in keys(blank, "squeeze")] == [(10, 0), (20, 1), (40, 0), (50, 1)]
+    assert [k[:2] for k in keys(blank, "squeeze")] == [(10, 0), (20, 1), (40, 0), (50, 1),
+                                                       (96, 0)]
     assert panel.selection == {("squeeze", 2), ("squeeze", 3)}
     qtbot.keyClick(panel.view, Qt.Key.Key_Delete)
-    assert [k[:2] for k in keys(blank, "squeeze")] == [(10, 0), (20, 1)]
+    assert [k[:2] for k in keys(blank, "squeeze")] == [(10, 0), (20, 1), (96, 0)]
     blank.doc.undo_stack.undo()
-    assert len(keys(blank, "squeeze")) == 4
+    assert len(keys(blank, "squeeze")) == 5
     qtbot.mouseClick(panel.sequence, Qt.MouseButton.LeftButton)
     timeline = blank.doc.project.timeline
     assert [t.pose for t in timeline.tracks] == [p.name for p in blank.doc.project.poses]
     assert timeline.end == 5 * 36
     assert panel.end.value() == 5 * 36
     blank.doc.undo_stack.undo()
-    assert len(keys(blank, "squeeze")) == 4 and timeline.end == 96
+    assert len(keys(blank, "squeeze")) == 5 and timeline.end == 96
     # frame rate and range are edits too
     panel.fps.setValue(30.0)
     assert timeline.fps == 30.0
@@ -254,7 +257,9 @@ def test_a_blocked_out_animation_saves_and_reopens(blank, qtbot, tmp_path):
     saved = timeline.to_dict()
     assert blank.open_path(path)
     assert blank.doc.project.timeline.to_dict() == saved
-    assert len(blank.timeline_panel.keys_item.data) == 9
+    # nine keys clicked, and the ways back to 0 at the range's end of the two poses whose last
+    # click was not on it
+    assert len(blank.timeline_panel.keys_item.data) == 11
     assert blank.timeline_panel.end.value() == 96
 
 

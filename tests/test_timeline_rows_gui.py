@@ -56,7 +56,8 @@ def test_a_click_on_the_baseline_is_weight_zero_and_rows_are_tall(blank, qtbot):
     middle = panel.key_widget_pos("frown", 50, 0.5)
     click(qtbot, panel, middle)
     assert [k[:2] for k in keys(blank, "frown")] == [(10.0, 0.0), (30.0, 1.0),
-                                                     (50.0, pytest.approx(0.5, abs=0.05))]
+                                                     (50.0, pytest.approx(0.5, abs=0.05)),
+                                                     (96.0, 0.0)]  # back to 0 at the end
     assert row_pitch(panel) == pytest.approx(32, abs=1)
     assert top.y() - baseline.y() <= -24  # 0..1 over 24 px: 0.05 is more than a pixel
 

@@ -122,6 +122,32 @@ class Timeline:
         return timeline
 
 
+KeyTuple = tuple[float, float, str]  # frame, value, interpolation toward the next key
+
+
+def insert_key(keys: Sequence[KeyTuple], new: KeyTuple, start: float, end: float
+               ) -> list[KeyTuple]:
+    """``keys`` (in frame order) with ``new`` added as a local change: the curve keeps its
+    shape away from the new key.
+
+    Between two keys that is so by itself (each key shapes only the way to the next one). Past
+    the last key a track holds that key's value to the end, so a new key there would hold *its*
+    value to the end instead: the curve goes back to what it held, keyed at the frame range's
+    end (and before the first key, from the range's start). A key on the frame of another
+    replaces it; a key at the value the track already held needs no way back.
+    """
+    frame, value, mode = new
+    kept = [k for k in keys if abs(k[0] - frame) > 1e-6]
+    added = [new]
+    after = kept[-1][1] if kept else 0.0  # what the track held past its last key (or 0)
+    before = kept[0][1] if kept else 0.0
+    if (not kept or frame > kept[-1][0]) and frame < end and abs(value - after) > 1e-9:
+        added.append((float(end), after, mode))
+    if (not kept or frame < kept[0][0]) and frame > start and abs(value - before) > 1e-9:
+        added.append((float(start), before, mode))
+    return sorted(kept + added, key=lambda k: k[0])
+
+
 def sequence_all_poses(poses: Sequence[str], fps: float = 24.0, rise: float = 0.5,
                        hold: float = 0.5, fall: float = 0.5,
                        interpolation: str = "cosine") -> Timeline:

@@ -12,11 +12,18 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from studio.core.animation.timeline import INTERPOLATIONS, Key, Timeline, Track, sequence_all_poses
+from studio.core.animation.timeline import (
+    INTERPOLATIONS,
+    Key,
+    KeyTuple,
+    Timeline,
+    Track,
+    insert_key,
+    sequence_all_poses,
+)
 from studio.widgets.commands import ValueCommand
 from studio.widgets.document import Document
 
-KeyTuple = tuple[float, float, str]  # frame, value, interpolation toward the next key
 KeyRef = tuple[str, int]  # (pose, index of the key in its track, frame order)
 # a copied key: (pose, frame relative to the first copied key, value, interpolation)
 ClipKey = tuple[str, float, float, str]
@@ -87,7 +94,9 @@ class TimelineEdits:
     # --- keys ----------------------------------------------------------------------------------
     def add_key(self, pose: str, frame: float, value: float | None = None,
                 interpolation: str | None = None) -> KeyRef:
-        """A key on ``pose`` at ``frame``; by default with the weight the track has there."""
+        """A key on ``pose`` at ``frame``, with the weight the person set (by default the one
+        the track has there); the rest of the curve keeps its shape (``insert_key``): a key
+        past the last one does not hold its weight to the end."""
         state = self.state()
         keys = list(state.keys(pose))
         track = Track(pose, [Key(*k) for k in keys])
@@ -97,7 +106,7 @@ class TimelineEdits:
             before = [k for k in keys if k[0] <= frame]
             interpolation = before[-1][2] if before else (keys[0][2] if keys else "cosine")
         key = (float(frame), float(min(max(value, 0.0), 1.0)), interpolation)
-        new = state.with_keys({pose: _merge_frame(keys, key)})
+        new = state.with_keys({pose: insert_key(keys, key, state.start, state.end)})
         self.push(f"Add key {pose} @ {frame:g}", new)
         return pose, list(new.keys(pose)).index(key)
 
