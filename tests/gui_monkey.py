@@ -486,6 +486,8 @@ def gain_check(window) -> dict:
     pose = next(p for p in doc.project.pose_names[1:] if not links.get(p, {}).get(area))
     window.docks["Poses"].show()
     window.docks["Poses"].raise_()
+    _settle(20)
+    click(_button(window.pose_panel, "Back to neutral"))  # the sample opens mid-expression
     focused_keys(K.Key_End)(window.pose_panel.pose_rows[pose].slider)
     _settle(300)
     before = viewport_image(window)

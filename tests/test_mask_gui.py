@@ -626,3 +626,32 @@ def test_an_area_chooses_the_wrinkled_map_it_reveals(window, qtbot):
     assert areas[index].wrinkle_map != brow
     assert region_difference(shown, hidden, marks["eye corner left"]) > 4.0
     assert np.array_equal(viewport_image(window), shown)
+
+
+def test_while_a_stroke_is_painted_on_the_uv_canvas_the_face_shows_what_it_reveals(window,
+                                                                                    qtbot):
+    """Painting an area nothing drives yet (activation 0, neutral face): mid-stroke the face
+    shows that area's wrinkles at full strength with technique 1, under the brush and nowhere
+    else; once the stroke ends, the face is as the document says again. Seen red with the
+    canvas's preview signal not connected: the face does not change mid-stroke."""
+    tools = window.mask_tools
+    window.docks["UV Paint"].show()
+    window.docks["UV Paint"].raise_()
+    index = add_area_by_click(window, qtbot)
+    window.doc.set_view(technique="t2")  # another technique: the preview shows technique 1
+    before = viewport_image(window)
+    marks = viewport_marks(window)
+    (x0, y0), (x1, y1) = uv_pixel(window, "forehead right"), uv_pixel(window, "forehead left")
+    points = [canvas_point(window, x0 + (x1 - x0) * i / 20, y0 + (y1 - y0) * i / 20)
+              for i in range(21)]
+    surface = tools.canvas.view.viewport()
+    qtbot.mousePress(surface, Qt.MouseButton.LeftButton, pos=points[0])
+    for p in points[1:]:
+        qtbot.mouseMove(surface, p)
+    during = viewport_image(window)
+    qtbot.mouseRelease(surface, Qt.MouseButton.LeftButton, pos=points[-1])
+    assert window.doc.project.influence.areas[index].mask.max() > 0.3
+    assert window.doc.view.technique == "t2"  # a view of the work, not an edit
+    assert region_difference(before, during, marks["forehead"]) > 2.0
+    assert region_difference(before, during, marks["chin"]) < 0.5
+    assert np.array_equal(viewport_image(window), before)

@@ -216,3 +216,20 @@ def copy_of(project):
     import copy
 
     return copy.deepcopy(project)
+
+
+@pytest.mark.parametrize("window_size", [(1440, 900)])
+def test_the_paint_layout_puts_the_uv_canvas_and_the_face_side_by_side(window, qtbot):
+    layout = next(a for a in window.menus["View"].actions() if "Paint Layout" in a.text()
+                  .replace("&", ""))
+    layout.trigger()
+    canvas = window.mask_tools.canvas
+    qtbot.waitUntil(lambda: canvas.width() >= 0.33 * window.width(), timeout=3000)
+    assert window.viewport.isVisible()
+    assert abs(window.viewport.width() - canvas.width()) <= 0.1 * canvas.width()
+    areas = window.mask_tools.panel
+    assert not areas.visibleRegion().isEmpty()  # the brush and links beside it
+    reset = next(a for a in window.menus["View"].actions() if "Reset Layout" in a.text()
+                 .replace("&", ""))
+    reset.trigger()
+    qtbot.waitUntil(lambda: window.viewport.width() >= 0.6 * window.width(), timeout=3000)

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numpy as np
+
 from studio.core.animation.poses import PoseBlender
 from studio.core.project.model import Project
 from studio.render.renderer import FaceRenderer
@@ -17,6 +19,7 @@ class ProjectScene:
         self.renderer = renderer
         self.project = project
         self.weights: dict[str, float] = {}
+        self.preview_area: int | None = None  # technique 1's area shown alone at full strength
         renderer.set_textures(project.textures)  # (the old mesh may still be loaded here)
         self.reload_masks()
         self.reload_mesh()
@@ -48,7 +51,11 @@ class ProjectScene:
         self.renderer.set_area_maps([index(a.wrinkle_map) for a in self.project.influence.areas])
 
     def reload_activations(self) -> None:
-        self.renderer.set_activations(self.project.influence.activations(self.weights))
+        activations = self.project.influence.activations(self.weights)
+        if self.preview_area is not None:  # painting: the area being painted, alone, at 1
+            activations = (np.arange(len(activations)) == self.preview_area).astype(
+                activations.dtype)
+        self.renderer.set_activations(activations)
 
     def reload_wdv(self) -> None:
         wdv = self.project.wdv

@@ -250,6 +250,8 @@ class MainWindow(QMainWindow):
         view.addAction(self.viewport.reduce_action(self))
         view.addSeparator()
         self._action(view, "Reset &Layout", self.reset_layout)
+        self._action(view, "&Paint Layout", self.paint_layout, None,
+                     "The UV canvas and the face side by side; the Areas panel in front")
 
         help_menu = self.menus["Help"]
         self._action(help_menu, "&Navigation…", self.show_navigation_help, "F1")
@@ -468,6 +470,21 @@ class MainWindow(QMainWindow):
     def reset_layout(self) -> None:
         self.restoreState(self._default_state)
         self._default_dock_sizes()
+
+    def paint_layout(self) -> None:
+        """Substance Painter's 2D/3D split: the UV canvas on the left and the face beside it,
+        sharing the room left of the panels equally (the face shows the painted area live while
+        a stroke lasts), and the Areas panel, with the brush and the area's links, in front on
+        the right."""
+        self.reset_layout()
+        canvas = self.docks["UV Paint"]
+        self.addDockWidget(Qt.DockWidgetArea.LeftDockWidgetArea, canvas)  # out of the tabs
+        canvas.show()
+        self.docks["Areas"].show()
+        self.docks["Areas"].raise_()
+        self.layout().activate()
+        side = self.docks["Areas"].width()
+        self.resizeDocks([canvas], [(self.width() - side) // 2], Qt.Orientation.Horizontal)
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if not self.maybe_save():

@@ -24,6 +24,8 @@ class MaskTools:
         self._remember_brush()
         self.panel = AreasPanel(doc, self.state)
         self.canvas = UvCanvas(doc, self.state)
+        self.canvas.previewing.connect(
+            lambda area: window.viewport.set_mask_preview(None if area < 0 else area))
         self.tool = FacePaintTool(doc, self.state,
                                   lambda text: window.statusBar().showMessage(text, 4000))
         # a painting workspace on the left: the canvas above, its layers and brush below

@@ -10,7 +10,7 @@ middle-drag or Space+left-drag; F fits the layout. Left-drag paints, X toggles t
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QLineF, QPointF, QRectF, Qt
+from PySide6.QtCore import QLineF, QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import (
     QBrush,
     QColor,
@@ -257,6 +257,7 @@ class PaintView(QGraphicsView):
                                      state.stroke_mirror(self.canvas.doc.project.mesh))
         p = self.mapToScene(pos.toPoint())
         self._session.jump(p.x(), p.y(), pressure)
+        self.canvas.previewing.emit(state.active)  # the face shows what the mask reveals
 
     def _continue(self, pos: QPointF, pressure: float) -> None:
         p = self.mapToScene(pos.toPoint())
@@ -266,10 +267,13 @@ class PaintView(QGraphicsView):
         if self._session is not None:
             self._session.end()
             self._session = None
+            self.canvas.previewing.emit(-1)
 
 
 class UvCanvas(QWidget):
     """The 2-D paint surface (a dock): header with view options, then the view."""
+
+    previewing = Signal(int)  # the area a stroke paints now, -1 once it ends
 
     def __init__(self, document: Document, state: PaintState, parent: QWidget | None = None
                  ) -> None:

@@ -104,6 +104,7 @@ class Viewport(QOpenGLWidget):
         self.moving = False
         self.last_draw_size: tuple[int, int] = (0, 0)  # pixels the last frame was drawn at
         self._reduced: ReducedTarget | None = None
+        self._preview: int | None = None  # the area painted on the UV canvas (set_mask_preview)
         self._still_ms = 0.0  # the last full-size frame's time
         self._moved_at = 0.0  # perf_counter when the current movement started
         self._said: str | None = None  # the status bar message about reduced drawing
@@ -195,6 +196,9 @@ class Viewport(QOpenGLWidget):
             scene.set_pose_weights(self.doc.pose_weights)
         elif pending & {"activations", "areas"}:
             scene.reload_activations()
+        if scene.preview_area != self._preview:
+            scene.preview_area = self._preview
+            scene.reload_activations()
         if "wdv" in pending:
             scene.reload_wdv()
         elif "wdv settings" in pending:  # a uniform: the slots stay as they are
@@ -257,6 +261,8 @@ class Viewport(QOpenGLWidget):
         """The face (each split pane's) into ``fbo``'s (0, 0, *size)."""
         w, h = size
         view = self.doc.view
+        if self._preview is not None:  # painting: what the mask reveals, with technique 1
+            view = view.with_changes(technique="t1", split=False, debug_view="shaded")
         relief = self._relief(view.relief)
         if view.split:
             for (x, width), technique in zip(split_columns(w), SPLIT, strict=True):
@@ -321,6 +327,15 @@ class Viewport(QOpenGLWidget):
             elif bar().currentMessage() == self._said:
                 bar().clearMessage()
         self._said = text
+
+    def set_mask_preview(self, area: int | None) -> None:
+        """While an area is painted on the UV canvas, the face shows that area alone at full
+        activation with technique 1 — what the mask reveals, live under each dab — and then
+        the document's own view again (a view of the work, not an edit)."""
+        if area == self._preview:
+            return
+        self._preview = area
+        self._invalidate("activations")
 
     def set_playing(self, playing: bool) -> None:
         """While the timeline plays, frames are drawn at half size at least (see
