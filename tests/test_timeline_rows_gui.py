@@ -106,6 +106,9 @@ def test_the_current_row_is_marked(blank, qtbot):
     row = panel.row_of("surprise")
     assert panel.current_pose == "surprise"
     assert panel.row_marker.isVisible() and panel.row_marker.getRegion() == (row, row + 1)
+    names = dict(panel.tracks.getAxis("left")._tickLevels[0])
+    assert names[row + 0.5] == "▸ surprise"  # the pointer in the names' column too
+    assert sum(name.startswith("▸") for name in names.values()) == 1
     qtbot.wait(50)
     image = panel.view.grab().toImage()
     others = [p for p in panel.visible_rows() if p != "surprise"]

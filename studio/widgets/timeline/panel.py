@@ -59,6 +59,7 @@ ROW_PIXELS = 32  # a row's height unless the user chose one: 0.05 of weight is o
 ROW_PIXELS_RANGE = (18, 120)  # the heights a user may give the rows
 ROW_HEIGHT_KEY = "timeline/row_pixels"  # where the chosen height is remembered
 ROWS_AT_LEAST = 2  # rows kept on screen however short the dock; the rest scroll
+NAMES_PIXELS = 130  # the names' column (the current row's name has a pointer before it)
 RULER_PIXELS = 36  # the time ruler's height: its frame numbers, and the playhead's
 LEGEND_ENTRIES = 10  # curves the legend names (two columns), so it stays as short as the plot
 CURVES_PIXELS = 48  # the curve plot's height (the ruler says its frames)
@@ -336,7 +337,7 @@ class TimelinePanel(QWidget):
         self.ruler.showAxis("top")
         self.ruler.getAxis("top").setStyle(tickLength=-5)
         ruler_left = self.ruler.getAxis("left")
-        ruler_left.setWidth(110)
+        ruler_left.setWidth(NAMES_PIXELS)
         ruler_left.setTicks([[], []])
         ruler_left.setPen(pg.mkPen(None))
         self.ruler.getViewBox().setBackgroundColor((38, 38, 44))
@@ -348,7 +349,7 @@ class TimelinePanel(QWidget):
         self.tracks.hideButtons()
         self.tracks.showGrid(x=True, y=False, alpha=0.15)
         names = self.tracks.getAxis("left")
-        names.setWidth(110)
+        names.setWidth(NAMES_PIXELS)
         names.setCursor(Qt.CursorShape.SizeVerCursor)
         names.setToolTip("Drag up or down: the rows' height")
         self.tracks.hideAxis("bottom")  # the ruler above says the frames
@@ -357,9 +358,10 @@ class TimelinePanel(QWidget):
         self.curves = self.view.addPlot(row=2, col=0, viewBox=ScrubViewBox(self))
         self.curves.hideButtons()
         self.curves.showGrid(x=True, y=True, alpha=0.15)
-        self.curves.getAxis("left").setWidth(110)
+        self.curves.getAxis("left").setWidth(NAMES_PIXELS)
         self.curves.hideAxis("bottom")
-        self.curves.setLabel("left", "weight / activation")
+        self.curves.setToolTip("Pose weights (solid) and the area activations they drive "
+                               "(dashed): click or drag to scrub")
         self.curves.setYRange(-0.05, 1.08, padding=0)
         self.curves.setMenuEnabled(False)
         self.curves.setXLink(self.tracks)
@@ -371,7 +373,7 @@ class TimelinePanel(QWidget):
         self.curves.setMaximumHeight(CURVES_PIXELS)  # the rows get what the curves leave
 
         self.row_marker = pg.LinearRegionItem(orientation="horizontal", movable=False,
-                                              brush=pg.mkBrush(255, 200, 40, 28),
+                                              brush=pg.mkBrush(255, 200, 40, 36),
                                               pen=pg.mkPen(255, 200, 40, 90))
         self.row_marker.setZValue(-25)
         self.tracks.addItem(self.row_marker)
@@ -518,8 +520,7 @@ class TimelinePanel(QWidget):
             self.track_curves[pose] = curve
             line.setValue(row + ROW_PAD)  # the baseline: weight 0
         self._rows_at_least()
-        axis = self.tracks.getAxis("left")
-        axis.setTicks([[(self.row_of(p) + 0.5, pose_label(p)) for p in poses], []])
+        self._name_rows()
         self.rows.setValue(0)
         self._fit_rows()
         self.refresh()
@@ -837,6 +838,7 @@ class TimelinePanel(QWidget):
         """The pose K keys (the last edited, in a row or on its Poses slider), marked by a band
         across its row and its row scrolled into view."""
         self.current_pose = pose if pose in self.poses else None
+        self._name_rows()
         if self.current_pose is None:
             self.row_marker.setVisible(False)
             return
@@ -848,6 +850,12 @@ class TimelinePanel(QWidget):
             top, fit = self.rows.value(), self.rows.pageStep()
             if not top <= index < top + fit:
                 self.rows.setValue(min(index, self.rows.maximum()))
+
+    def _name_rows(self) -> None:
+        """Each row's pose name in the names' column; the current row's with a pointer."""
+        self.tracks.getAxis("left").setTicks([[
+            (self.row_of(p) + 0.5, ("▸ " if p == self.current_pose else "") + pose_label(p))
+            for p in self.poses], []])
 
     def key_current_pose(self) -> None:
         """K: key the last edited pose at the playhead with the weight it has now (the slider's
