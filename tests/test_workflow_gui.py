@@ -233,3 +233,28 @@ def test_the_paint_layout_puts_the_uv_canvas_and_the_face_side_by_side(window, q
                  .replace("&", ""))
     reset.trigger()
     qtbot.waitUntil(lambda: window.viewport.width() >= 0.6 * window.width(), timeout=3000)
+
+
+def test_an_influence_area_is_renamed_in_place_like_a_vector_area(window, qtbot, dialogs):
+    """F2 (or double-click) edits the name in the list, Return keeps it, Escape drops it —
+    as the Wrinkle vectors list does; no dialog. Seen red with the old Rename… dialog."""
+    doc = window.doc
+    panel = window.mask_tools.panel
+    bring_forward(panel)
+    panel.select(1)
+    qtbot.mouseClick(panel.list.viewport(), Qt.MouseButton.LeftButton,
+                     pos=panel.list.visualItemRect(panel.list.item(1)).center())
+    qtbot.keyClick(panel.list, Qt.Key.Key_F2)
+    editor = panel.rows[1].editor
+    assert editor.isVisible() and QApplication.focusWidget() is editor
+    qtbot.keyClicks(editor, "brow, left")
+    qtbot.keyClick(editor, Qt.Key.Key_Return)
+    assert doc.project.influence.areas[1].name == "brow, left" and dialogs == []
+    assert panel.rows[1].name.text() == "brow, left"
+    panel.rows[1].rename()  # the Rename button's way in
+    editor = panel.rows[1].editor
+    qtbot.keyClicks(editor, "nope")
+    qtbot.keyClick(editor, Qt.Key.Key_Escape)
+    assert doc.project.influence.areas[1].name == "brow, left"
+    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    assert doc.project.influence.areas[1].name != "brow, left"

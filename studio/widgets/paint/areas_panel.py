@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import QObject, QSettings, Qt, QTimer, Signal
+from PySide6.QtCore import QEvent, QObject, QSettings, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QIcon, QPixmap
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -25,8 +25,8 @@ from PySide6.QtWidgets import (
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
-    QInputDialog,
     QLabel,
+    QLineEdit,
     QListWidget,
     QListWidgetItem,
     QMessageBox,
@@ -172,6 +172,11 @@ class AreaRow(QWidget):
         self.colour.setAutoRaise(True)
         self.name = QLabel(area.name)
         self.name.setMinimumWidth(110)
+        self.editor = QLineEdit(area.name)  # the name, renamed in place (F2, double-click)
+        self.editor.hide()
+        self.editor.returnPressed.connect(self._renamed)
+        self.editor.editingFinished.connect(self._renamed)
+        self.editor.installEventFilter(self)
         self.flag = QLabel("⚠")  # shown when the area reveals a flat part of its map
         self.flag.setStyleSheet(WARNING_STYLE)
         self.flag.hide()
@@ -183,7 +188,7 @@ class AreaRow(QWidget):
         self.value.setFixedWidth(34)
         layout = QHBoxLayout(self)
         layout.setContentsMargins(4, 1, 4, 1)
-        for w in (self.visible, self.colour, self.name, self.flag):
+        for w in (self.visible, self.colour, self.name, self.editor, self.flag):
             layout.addWidget(w)
         layout.addWidget(self.slider, 1)
         layout.addWidget(self.value)
@@ -196,6 +201,34 @@ class AreaRow(QWidget):
         self.slider.sliderPressed.connect(self._begin)
         self.slider.sliderReleased.connect(self._end)
         self.slider.valueChanged.connect(self._moved)
+
+    def rename(self) -> None:
+        """Edit the name where it is, as the Wrinkle vectors panel and Blender's lists do:
+        Return or a click elsewhere keeps it, Escape leaves it as it was."""
+        self.name.hide()
+        self.editor.setText(self.name.text())
+        self.editor.show()
+        self.editor.setFocus()
+        self.editor.selectAll()
+
+    def _renamed(self) -> None:
+        if self.editor.isHidden():
+            return  # (Return, then the focus leaving: one rename)
+        self.editor.hide()
+        self.name.show()
+        name = self.editor.text().strip()
+        if name and name != self.name.text() and not mask_edits.rename_area(
+                self.panel.doc, self.index, name):
+            self.panel.say_taken(name)
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
+        if (watched is self.editor and event.type() == QEvent.Type.KeyPress
+                and event.key() == Qt.Key.Key_Escape):
+            self.editor.setText(self.name.text())
+            self.editor.hide()
+            self.name.show()
+            return True
+        return super().eventFilter(watched, event)
 
     def _begin(self) -> None:
         self._gesture = new_gesture()
@@ -279,11 +312,13 @@ class AreasPanel(QScrollArea):
         self.list = QListWidget()
         self.list.setMinimumHeight(200)
         self.list.currentRowChanged.connect(self._row_selected)
-        self.list.itemDoubleClicked.connect(lambda _: self.rename_dialog())
+        self.list.itemDoubleClicked.connect(lambda _: self.rename())
+        self.list.installEventFilter(self)  # F2 renames, as in the Wrinkle vectors list
         v.addWidget(self.list)
         specs = [("Add", "A new empty area", self.add),
                  ("Duplicate", "Copy the selected area", self.duplicate),
-                 ("Rename…", "Rename the selected area (or double-click it)", self.rename_dialog),
+                 ("Rename", "Rename the selected area in the list (F2, or double-click it)",
+                  self.rename),
                  ("Delete", "Delete the selected area", self.delete),
                  ("Up", "Move the selected area up", lambda: self.move(-1)),
                  ("Down", "Move the selected area down", lambda: self.move(1)),
@@ -658,15 +693,20 @@ class AreasPanel(QScrollArea):
             mask_edits.move_area(self.doc, i, i + step)
             self.select(i + step)
 
-    def rename_dialog(self) -> None:
-        area = self.active_area()
-        if area is None:
-            return
-        name, ok = QInputDialog.getText(self, "Rename area", "Name:", text=area.name)
-        if (ok and name.strip() and name.strip() != area.name
-                and not mask_edits.rename_area(self.doc, self.state.active, name)):
-            QMessageBox.warning(self, "Rename area",
-                                f"There is already an area called “{name.strip()}”.")
+    def rename(self) -> None:
+        """Rename the selected area in place in the list."""
+        if 0 <= self.state.active < len(self.rows):
+            self.rows[self.state.active].rename()
+
+    def say_taken(self, name: str) -> None:
+        QMessageBox.warning(self, "Rename area", f"There is already an area called “{name}”.")
+
+    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
+        if (watched is self.list and event.type() == QEvent.Type.KeyPress
+                and event.key() == Qt.Key.Key_F2):
+            self.rename()
+            return True
+        return super().eventFilter(watched, event)
 
     def apply(self, text: str, op) -> None:
         if self.active_area() is not None:
