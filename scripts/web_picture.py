@@ -38,14 +38,15 @@ def chromium() -> str:
     return found
 
 
-def open_page(page: Path, query: str, out: Path | None, size: int = 800) -> str:
-    """Chromium's screenshot of the page into ``out`` (or, with ``out=None``, its DOM) once the
-    page has settled: virtual time runs the page's own timers and promises (its data is
-    inflated asynchronously) before Chromium takes the picture. Returns what Chromium printed
-    (the DOM)."""
+def open_page(page: Path, query: str, out: Path | None, size: int = 800,
+              settle_ms: int = 30000) -> str:
+    """Chromium's screenshot of the page into ``out`` (or, with ``out=None``, its DOM) after
+    ``settle_ms`` of virtual time, which runs the page's own timers, promises (its data is
+    inflated asynchronously) and animation frames before Chromium takes the picture. Returns
+    what Chromium printed (the DOM)."""
     with tempfile.TemporaryDirectory() as profile:
         args = [chromium(), *FLAGS, f"--window-size={size},{size}",
-                "--virtual-time-budget=30000", f"--user-data-dir={profile}"]
+                f"--virtual-time-budget={settle_ms}", f"--user-data-dir={profile}"]
         args += [f"--screenshot={out}"] if out is not None else ["--dump-dom"]
         done = subprocess.run([*args, f"{page.as_uri()}?{query}"], capture_output=True,
                               text=True, timeout=180, check=False)

@@ -30,10 +30,10 @@ SIZE = 800  # the issue's window: 800 × 800
 POSE = "brow_raise_left"  # the test face's left-brow raise (the sample's browInnerUp_L)
 
 
-def open_page(page: Path, query: str, out: Path | None) -> str:
+def open_page(page: Path, query: str, out: Path | None, settle_ms: int = 30000) -> str:
     """The page in headless Chromium at 800 × 800: its screenshot, or its DOM (``out=None``)."""
     try:
-        return web_picture.open_page(page, query, out, SIZE)
+        return web_picture.open_page(page, query, out, SIZE, settle_ms)
     except web_picture.NoChromium as exc:
         pytest.fail(str(exc))
 
@@ -95,6 +95,21 @@ def test_a_bad_query_says_what_is_wrong_on_the_page_and_shows_the_face(test_face
     assert 'data-ready="true"' in dom
     message = re.search(r'<div id="message">(.*?)</div>', dom).group(1)
     assert "technique=t3" in message and "weight=2" in message and "pose=nope" in message
+
+
+def test_without_a_pose_the_timeline_plays_and_with_one_the_face_holds_it(test_face, tmp_path):
+    _, page, _ = test_face
+    moments = {}
+    for query in ("technique=t2&ui=0", f"pose={POSE}&technique=t2&ui=0"):
+        for settle in (1500, 3000):  # virtual milliseconds: the page has drawn by then
+            open_page(page, query, tmp_path / "moment.png", settle)
+            moments[query, settle] = pixels(tmp_path / "moment.png")
+            assert face_share(moments[query, settle]) >= 0.10
+    playing = changed(moments["technique=t2&ui=0", 1500], moments["technique=t2&ui=0", 3000])
+    held = changed(moments[f"pose={POSE}&technique=t2&ui=0", 1500],
+                   moments[f"pose={POSE}&technique=t2&ui=0", 3000])
+    assert playing.mean() > 0.002
+    assert held.mean() == 0
 
 
 def test_the_page_needs_no_network_and_no_other_file(tmp_path):
