@@ -256,6 +256,9 @@ def _match_dtype(image: Array, dtype: np.dtype) -> Array:
     return (image >> 8).astype(np.uint8)
 
 
+ROWS_AT_ONCE = 256  # input rows averaged together by _resize
+
+
 def _resize(image: Array, height: int, width: int) -> Array:
     """Area-average when shrinking by a whole factor (no aliasing of fine detail such as
     pores), nearest texel otherwise."""
@@ -264,8 +267,15 @@ def _resize(image: Array, height: int, width: int) -> Array:
         return image
     if h % height == 0 and w % width == 0:
         fy, fx = h // height, w // width
-        blocks = image.reshape(height, fy, width, fx, -1).astype(np.float64).mean(axis=(1, 3))
-        return np.rint(blocks).astype(image.dtype).reshape(height, width, *image.shape[2:])
+        out = np.empty((height, width, *image.shape[2:]), image.dtype)
+        step = max(1, ROWS_AT_ONCE // fy)  # a band of output rows at a time: a 4096² map
+        for top in range(0, height, step):  # costs a band in float32, not the whole in float64
+            band = image[top * fy:(top + step) * fy]
+            rows = len(band) // fy
+            blocks = band.reshape(rows, fy, width, fx, -1).astype(np.float32).mean(axis=(1, 3))
+            out[top:top + rows] = np.rint(blocks).astype(image.dtype).reshape(
+                rows, width, *image.shape[2:])
+        return out
     rows = np.arange(height) * h // height
     cols = np.arange(width) * w // width
     return image[rows][:, cols]
