@@ -127,3 +127,27 @@ def test_a_focused_field_keeps_space_and_k_while_the_mouse_is_over_the_timeline(
     type_key(qtbot, Qt.Key.Key_Return)
     assert window.doc.project.timeline.end in (120, 12)
     assert np.isfinite(window.doc.frame)
+
+
+def test_a_focused_line_edit_keeps_space_and_k_while_the_mouse_is_over_the_timeline(
+        open_window, sample, qtbot):
+    """The Poses panel's filter (shown past eight poses) typed into with the mouse resting over
+    the timeline. Red once: with ``typing_into`` answering False (hover_keys.py) the filter
+    read "brow": its spaces and its k went to the timeline (play, key)."""
+    from dataclasses import replace
+
+    sample.poses = [*sample.poses, *(replace(p, name=f"{p.name} copy") for p in sample.poses)]
+    window = open_window(sample)
+    window.activateWindow()
+    qtbot.waitUntil(window.isActiveWindow, timeout=5000)
+    panel = window.timeline_panel
+    field = window.pose_panel.filter
+    assert field.isVisible()
+    qtbot.mouseClick(field, Qt.MouseButton.LeftButton)
+    assert QApplication.focusWidget() is field
+    hover(qtbot, panel.view.viewport())
+    type_key(qtbot, Qt.Key.Key_K, "brow k")
+    type_key(qtbot, Qt.Key.Key_Space)
+    assert field.text() == "brow k "
+    assert not panel.player.playing
+    assert window.doc.undo_stack.count() == 0

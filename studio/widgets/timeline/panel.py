@@ -326,9 +326,10 @@ class TimelinePanel(QWidget):
         sits in its own column so that it never hides a curve."""
         self.view = pg.GraphicsLayoutWidget()
         self.view.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
-        self.view.setToolTip("Click a row: add a key · drag a key: move it · drag elsewhere: "
-                             "scrub\nDel · Ctrl+C/V · K: key the pose slider · wheel: zoom "
-                             "time · Shift+wheel: scroll rows")
+        self.view.setToolTip("Click a row: add a key (its height is the weight) · drag a key: "
+                             "move it · drag elsewhere, or on the ruler: scrub\nMouse over the "
+                             "timeline: Space plays, K keys the last edited pose · Del · Ctrl+C/V"
+                             " · wheel: zoom time · Shift+wheel: scroll rows")
         self.view.ci.setSpacing(2)
         self.ruler = self.view.addPlot(row=0, col=0, viewBox=ScrubViewBox(self))
         self.ruler.hideButtons()
