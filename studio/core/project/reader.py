@@ -226,7 +226,12 @@ class _Loader:
             self.fail("project.json is not UTF-8 text")
         except RecursionError:
             self.fail("project.json is nested too deeply")
-        except ValueError as exc:
+        except json.JSONDecodeError as exc:
+            self.fail(f"project.json is not valid JSON ({exc})")
+        except ValueError as exc:  # a constant, a float or an integer too large to be a value
+            if "digits" in str(exc) and "sys.set_int_max_str_digits" in str(exc):
+                self.fail("project.json holds a number with thousands of digits, which no "
+                          "project value can be")
             self.fail(f"project.json is not valid JSON ({exc})")
         if not isinstance(doc, dict):
             self.fail("project.json does not hold a JSON object")
