@@ -65,6 +65,8 @@ def install_getting_started(window) -> QDockWidget:
     store = settings()
     if store.value(SEEN_KEY, False, type=bool):
         dock.hide()
+        if "Poses" in window.docks:  # (tabifying made this tab current; hidden, Poses is)
+            window.docks["Poses"].raise_()
     else:
         store.setValue(SEEN_KEY, True)
         # once the window is up (and has restored its last layout, which may have closed it)
