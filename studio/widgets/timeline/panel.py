@@ -245,7 +245,19 @@ class TimelinePanel(QWidget):
         controls.addLayout(transport)
         self.frame_label = QLabel()
         self.frame_label.setStyleSheet("font-weight: bold;")
-        controls.addWidget(self.frame_label)
+        self.row_height = QSpinBox()  # beside the frame: the controls fit a 200-px dock
+        self.row_height.setRange(*ROW_PIXELS_RANGE)
+        self.row_height.setSuffix(" px")
+        self.row_height.setKeyboardTracking(False)
+        self.row_height.setToolTip("Height of the track rows (or drag a row's edge in the "
+                                   "names' column); taller rows set a weight more finely")
+        self.row_height.setValue(self.row_pixels)
+        self.row_height.valueChanged.connect(self.set_row_pixels)
+        frame_row = QHBoxLayout()
+        frame_row.addWidget(self.frame_label, 1)
+        frame_row.addWidget(QLabel("Rows"))
+        frame_row.addWidget(self.row_height)
+        controls.addLayout(frame_row)
 
         form = QFormLayout()
         form.setContentsMargins(0, 0, 0, 0)
@@ -284,15 +296,6 @@ class TimelinePanel(QWidget):
         key_row.addWidget(self.interpolation, 1)
         key_row.addWidget(self.key_value)
         form.addRow("Key", key_row)
-        self.row_height = QSpinBox()
-        self.row_height.setRange(*ROW_PIXELS_RANGE)
-        self.row_height.setSuffix(" px")
-        self.row_height.setKeyboardTracking(False)
-        self.row_height.setToolTip("Height of the track rows (or drag a row's edge in the "
-                                   "names' column); taller rows set a weight more finely")
-        self.row_height.setValue(self.row_pixels)
-        self.row_height.valueChanged.connect(self.set_row_pixels)
-        form.addRow("Rows", self.row_height)
         controls.addLayout(form)
         self.sequence = QPushButton("Sequence all poses")
         self.sequence.setToolTip("Replace the animation by neutral → pose → neutral for each "
