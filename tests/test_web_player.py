@@ -112,7 +112,8 @@ def test_without_a_pose_the_timeline_plays_and_with_one_the_face_holds_it(test_f
     assert held.mean() == 0
 
 
-def test_the_page_needs_no_network_and_no_other_file(tmp_path):
+@pytest.mark.core
+def test_the_page_needs_no_network_and_no_other_file():
     page = web_page(make_test_face(561, texture_size=64, mask_size=32), OrbitCamera())
     assert not re.search(r"""(src|href)\s*=\s*["'][^"'#]""", page)  # nothing loaded from elsewhere
     assert "fetch(" not in page and "import " not in page and "http" not in page.lower()
@@ -175,3 +176,20 @@ def test_the_sample_head_s_page_shows_both_techniques_at_browInnerUp_L(tmp_path)
     assert face_share(shots["none"]) >= 0.10
     for technique in ("t1", "t2"):
         assert changed(shots[technique], shots["none"]).mean() >= 0.01
+
+
+def test_web_over_a_file_is_refused_in_one_line_before_any_work(tmp_path, capsys,
+                                                                 monkeypatch):
+    face = tmp_path / "face.wrinkle"
+    save_project(make_test_face(561, texture_size=64, mask_size=32), face, backup=False)
+    taken = tmp_path / "taken"
+    taken.write_text("mine")
+
+    def no_work(*args: object) -> None:
+        raise AssertionError("the project was read before the destination was checked")
+
+    monkeypatch.setattr("studio.core.project.reader.load_project", no_work)
+    assert main(["export", str(face), "--web", str(taken)]) == 2
+    err = capsys.readouterr().err
+    assert "taken" in err and len(err.strip().splitlines()) == 1
+    assert taken.read_text() == "mine"
