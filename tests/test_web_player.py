@@ -193,3 +193,39 @@ def test_web_over_a_file_is_refused_in_one_line_before_any_work(tmp_path, capsys
     err = capsys.readouterr().err
     assert "taken" in err and len(err.strip().splitlines()) == 1
     assert taken.read_text() == "mine"
+
+
+def page_activations(scene: dict, arrays: dict[str, np.ndarray],
+                     weights: np.ndarray) -> np.ndarray:
+    """What player.js's ``Face.activations`` computes from the page's links and curve samples."""
+    out = arrays["t1.base"].astype(np.float64)
+    for link in scene["links"]:
+        curve = np.asarray(link["curve"])
+        x = np.clip(weights[link["pose"]], 0, 1) * (len(curve) - 1)
+        i = min(int(x), len(curve) - 2)
+        out[link["area"]] += link["gain"] * (curve[i] * (i + 1 - x) + curve[i + 1] * (x - i))
+    return np.where(arrays["t1.shown"] > 0, np.clip(out, 0, 1), 0)
+
+
+@pytest.mark.core
+def test_the_page_s_links_and_curves_give_the_studio_s_activations():
+    from studio.core.wrinkles.response import ResponseCurve
+
+    project = make_test_face(561, texture_size=64, mask_size=32)
+    influence = project.influence
+    influence.curves = {
+        "brow_raise_left": {"forehead left": ResponseCurve("smooth_step", 0.2, 0.7)},
+        "surprise": {"forehead right": ResponseCurve("custom", points=((0, 0.1), (0.45, 0.9),
+                                                                       (1, 0.4)))},
+        "squeeze": {"cheeks": ResponseCurve("ease_in")}}
+    influence.links["frown"]["between brows"] = 0.6
+    influence.areas[3].activation = 0.25  # an area's own value adds to its links'
+    influence.areas[4].visible = False  # hidden: shows nothing whatever its links say
+    scene, arrays = page_arrays(web_page(project, OrbitCamera()))
+    names = [p.name for p in project.poses]
+    mixes = [{pose: w} for pose in names for w in (0.0, 0.13, 0.5, 0.81, 1.0)]
+    mixes.append({"surprise": 0.4, "brow_raise_left": 0.9, "squeeze": 0.6})
+    for mix in mixes:
+        weights = np.array([mix.get(name, 0.0) for name in names])
+        np.testing.assert_allclose(page_activations(scene, arrays, weights),
+                                   influence.activations(mix), atol=2e-3, err_msg=str(mix))
