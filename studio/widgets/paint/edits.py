@@ -22,6 +22,7 @@ from studio.core.files.naming import unique_name
 from studio.core.setup.mirror_area import mirrored_area
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.brush import Brush, Mirror, Rect, Stroke, tile_changes
+from studio.core.wrinkles.colours import distinct_colour
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.surface_mirror import SurfaceMirror
@@ -30,8 +31,6 @@ from studio.widgets.document import Document
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp"}
 T = TypeVar("T")  # a link's gain, or its curve
-PALETTE = [(230, 75, 60), (70, 200, 80), (70, 110, 240), (240, 210, 40), (220, 60, 220),
-           (40, 210, 220), (250, 140, 30), (150, 90, 250), (255, 120, 160), (160, 220, 60)]
 
 
 def _layer(doc: Document, area: InfluenceArea) -> int | None:
@@ -181,7 +180,8 @@ def mask_shape(doc: Document, default: int = 1024) -> tuple[int, int]:
 
 
 def next_colour(doc: Document) -> tuple[int, int, int]:
-    return PALETTE[len(doc.project.influence.areas) % len(PALETTE)]
+    """A colour unlike every other area's (and the vertex selection's)."""
+    return distinct_colour(a.colour for a in doc.project.influence.areas)
 
 
 def add_area(doc: Document, name: str = "area", mask: np.ndarray | None = None,
@@ -432,7 +432,7 @@ def import_masks(doc: Document, paths: list[Path], dark_is_strong: bool = False
     names = {a.name for a in doc.project.influence.areas}
     new: list[InfluenceArea] = []
     errors: list[ImageError] = []
-    for i, path in enumerate(paths):
+    for path in paths:
         try:
             mask = read_mask(Path(path), shape, dark_is_strong)
         except ImageError as exc:
@@ -442,7 +442,8 @@ def import_masks(doc: Document, paths: list[Path], dark_is_strong: bool = False
         while name in names:
             name, k = f"{Path(path).stem} {k}", k + 1
         names.add(name)
-        colour = PALETTE[(len(doc.project.influence.areas) + i) % len(PALETTE)]
+        colour = distinct_colour([*(a.colour for a in doc.project.influence.areas),
+                                  *(a.colour for a in new)])
         new.append(InfluenceArea(name, mask, colour=colour))
     if new:
         what = new[0].name if len(new) == 1 else f"{len(new)} masks"

@@ -13,14 +13,13 @@ import numpy as np
 from PySide6.QtGui import QUndoCommand
 
 from studio.core.files.naming import unique_name
+from studio.core.wrinkles.colours import distinct_colour
 from studio.core.wrinkles.wdv import WdvArea, wrinkle_directions
 from studio.widgets.commands import ValueCommand
 from studio.widgets.document import Document
 
 _SELECTION_ID = 4101
 _VECTORS_ID = 4102
-AREA_COLOURS = [(255, 150, 40), (60, 220, 120), (90, 140, 255), (240, 80, 160), (250, 220, 60),
-                (80, 220, 230), (190, 120, 255), (255, 100, 80)]
 
 
 class SelectionCommand(QUndoCommand):
@@ -173,13 +172,12 @@ def set_selection(doc: Document, new: np.ndarray, text: str = "Select",
 
 
 def add_area(doc: Document, name: str = "area", pose: str | None = None) -> WdvArea:
-    """A new, empty area at the end of the list, named uniquely, in the next free colour."""
+    """A new, empty area at the end of the list, named uniquely, in a colour unlike the others'
+    and the selection's."""
     wdv = doc.project.wdv
     if pose is None:
         pose = doc.project.poses[0].name if doc.project.poses else "neutral"
-    used = {tuple(a.colour) for a in wdv.areas}
-    colour = next((c for c in AREA_COLOURS if c not in used),
-                  AREA_COLOURS[len(wdv.areas) % len(AREA_COLOURS)])
+    colour = distinct_colour(a.colour for a in wdv.areas)
     taken = (a.name for a in wdv.areas)
     area = WdvArea.empty(unique_name(name, taken), pose, doc.project.mesh.n_welded, colour=colour)
     doc.undo_stack.push(AreaListCommand(doc, [*wdv.areas, area], f"Add area {area.name}",

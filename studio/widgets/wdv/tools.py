@@ -15,6 +15,7 @@ from PySide6.QtCore import QObject, Signal
 
 from studio.core.mesh import selection as sel
 from studio.core.mesh.geometry import vertex_normals
+from studio.core.wrinkles.colours import SELECTION
 from studio.core.wrinkles.wdv import WdvArea, WdvSetup
 from studio.render.wdv_overlay import WdvOverlay, vector_lines
 from studio.widgets.document import Document
@@ -104,9 +105,9 @@ class WdvTools(QObject):
         self.currentAreaChanged.emit()
 
     def _selection_changed(self) -> None:
-        area = self.current_area
-        colour = area.colour if area is not None else (255, 255, 255)
-        self.overlay.set_selection(np.flatnonzero(self.doc.selection), colour)
+        # selected vertices in the selection's own colour (Blender's orange), never an area's:
+        # the vectors are drawn in the area's, and the two must be told apart
+        self.overlay.set_selection(np.flatnonzero(self.doc.selection), SELECTION)
         self.viewport.update()
 
     def _update_vectors(self) -> None:
