@@ -91,7 +91,8 @@ def test_k_over_the_timeline_keys_the_pose_slider_just_moved(window, qtbot):
 
 def test_f_over_the_viewport_frames_the_face_while_the_timeline_has_the_focus(window, qtbot):
     """Red once: with the viewport's ``hover.add`` removed (timeline/tools.py) F went to the
-    focused timeline and the camera stayed turned."""
+    focused timeline and the camera stayed turned; without its Space entry Space over the
+    focused viewport played nothing."""
     vp = window.viewport
     centre = vp.rect().center()
     qtbot.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.AltModifier, centre)
@@ -101,6 +102,13 @@ def test_f_over_the_viewport_frames_the_face_while_the_timeline_has_the_focus(wi
                        centre + QPoint(120, 40))
     camera = window.doc.camera
     assert abs(camera.yaw) > 5
+    # Space over the viewport plays, as in Blender's 3D view (red once without its entry)
+    assert QApplication.focusWidget() is vp
+    hover(qtbot, vp)
+    type_key(qtbot, Qt.Key.Key_Space)
+    assert window.timeline_panel.player.playing
+    type_key(qtbot, Qt.Key.Key_Space)
+    assert not window.timeline_panel.player.playing
     click_ruler(qtbot, window.timeline_panel, 10)
     assert window.timeline_panel.isAncestorOf(QApplication.focusWidget())
     hover(qtbot, vp)
