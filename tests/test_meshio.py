@@ -97,12 +97,14 @@ def test_obj_polygons_seam_and_negative_indices(neutral: FaceMesh):
     assert neutral.source.endswith("neutral.obj")
 
 
-def test_obj_vertex_only_faces_without_uvs_are_rejected(tmp_path: Path):
+def test_obj_vertex_only_faces_without_uvs_get_uvs_made(tmp_path: Path):
+    """No UVs at all: xatlas makes them (tests/test_no_uv_face.py), and says so."""
+    from studio.core.mesh.meshio import made_uvs
+
     for name, faces in [("plain.obj", "f 1 2 3"), ("normals.obj", "f 1//1 2//1 3//1")]:
         path = _write(tmp_path / name, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n" + faces + "\n")
-        with pytest.raises(MeshError, match="texture coordinates") as info:
-            load_mesh(path)
-        assert name in str(info.value)
+        mesh = load_mesh(path)
+        assert mesh.n_welded == 3 and name in made_uvs(mesh)
 
 
 def test_obj_face_partly_without_uvs_names_the_face(tmp_path: Path):
@@ -204,7 +206,6 @@ BAD_FILES = {
                 r"vertex 2 \(line 2\) has a non-finite coordinate"),
     "inf.obj": (TRI.replace("v 0 1 0", "v 0 1 inf") + "f 1/1 2/2 3/3\n",
                 "vertex 3 .*non-finite"),
-    "no_uv.obj": ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "no texture coordinates"),
     "range.obj": (TRI + "f 1/1 2/2 9/3\n",
                   r"face 1 \(line 7\) refers to vertex 9, but the file has 3"),
     "neg_range.obj": (TRI + "f 1/1 2/2 -4/3\n", "refers to vertex -4, but only 3 come before"),

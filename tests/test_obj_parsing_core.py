@@ -241,8 +241,6 @@ def test_a_texture_index_out_of_range_is_named(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("uvs", "faces", "problem"),
     [
-        ("", "f 1 2 3\n", "the mesh has no texture coordinates (UVs); export it with UVs"),
-        ("", "f 1/ 2/ 3/\n", "the mesh has no texture coordinates (UVs); export it with UVs"),
         ("vt 0 0\n", "f 1/1 2/1 3/1\nf 1 3 4\n", "face 2 (line 7) has no texture coordinates"),
         (
             "vt 0 0\nvt 1 1\n",

@@ -32,6 +32,7 @@ import numpy as np
 from studio.core.animation.poses import KeyPose
 from studio.core.files.errors import MeshError
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.unwrap import unwrap
 
 Array = np.ndarray
 
@@ -96,6 +97,8 @@ class _ObjInfo:
 
 # Kept beside FaceMesh rather than in it, and dropped with the mesh.
 _OBJ_INFO: weakref.WeakKeyDictionary[FaceMesh, _ObjInfo] = weakref.WeakKeyDictionary()
+# A mesh whose UVs the studio made (core/mesh/unwrap.py) -> the line that says so.
+_MADE_UVS: weakref.WeakKeyDictionary[FaceMesh, str] = weakref.WeakKeyDictionary()
 
 
 # --------------------------------------------------------------------------------------------
@@ -191,6 +194,12 @@ def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyP
             path,
         )
     return KeyPose(name=name, positions=welded)
+
+
+def made_uvs(mesh: FaceMesh) -> str | None:
+    """"no UVs in FILE: made them with xatlas, N charts" for a mesh read without UVs, else
+    None: the user is told that the layout their maps must follow is the studio's."""
+    return _MADE_UVS.get(mesh)
 
 
 def not_face_vertices(mesh: FaceMesh, names: Collection[str], kind: str | None = None) -> Array:
@@ -534,8 +543,10 @@ def _mesh_from_obj(path: Path, data: _ObjData) -> FaceMesh:
     _check_counts(path, len(data.positions), len(data.sizes))
     missing = data.corner_vt == _MISSING
     if missing.any():
-        if len(data.uvs) == 0:
-            raise MeshError("the mesh has no texture coordinates (UVs); export it with UVs", path)
+        if len(data.uvs) == 0:  # none at all: made, and said (``made_uvs``)
+            made = unwrap(data.positions, data.corner_v[_fan_triangles(data.sizes)], str(path))
+            _MADE_UVS[made.mesh] = made.report(path)
+            return made.mesh
         c = int(np.argmax(missing))
         face = int(np.searchsorted(np.cumsum(data.sizes), c, side="right"))
         raise MeshError(

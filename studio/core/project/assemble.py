@@ -20,6 +20,7 @@ from studio.core.files.errors import MeshError
 from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices, obj_groups
 from studio.core.mesh.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
 from studio.core.project.face_parts import Part, suggest_names, suggest_parts
+from studio.core.project.fbx import load_fbx
 from studio.core.project.gltf import load_gltf
 from studio.core.project.model import Project
 from studio.core.project.texture_sets import load_texture
@@ -86,8 +87,16 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
     if Path(mesh).suffix.lower() in (".glb", ".gltf"):
         return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name,
                           load_gltf(mesh, keep, not_face, part_kind, report))
+    if Path(mesh).suffix.lower() == ".fbx":  # blend shapes as key poses, the face found
+        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name,
+                          load_fbx(mesh, keep, not_face, part_kind, report))
     not_face = not_face or ()
     face = load_mesh(mesh, keep, part_kind)
+    from studio.core.mesh.meshio import made_uvs
+
+    made = made_uvs(face)  # a mesh without UVs: the studio made them, and says so
+    if made and report is not None:
+        report.append(made)
     flags = not_face_vertices(face, not_face, part_kind) if not_face else None
     if flags is not None and flags.all():
         raise MeshError(f"marking {', '.join(sorted(not_face))} as not face leaves no skin "

@@ -1,0 +1,85 @@
+"""A face without texture coordinates, as the issue's (a low-resolution head in metres, ARKit
+shapes): the production-convention head (tests/production_head.py) at about 1,220 vertices,
+written as OBJs with every ``vt`` stripped. ``new --auto`` makes UVs with xatlas and says so,
+keeps them in the project, and a default render shows each compressing pose's wrinkles with
+both techniques."""
+
+from __future__ import annotations
+
+import io
+import re
+from contextlib import redirect_stdout
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from studio.cli import main
+from studio.core.mesh.meshio import load_mesh, load_pose, made_uvs
+from studio.core.project.reader import load_project
+from tests.production_head import POSES, build_head
+from tests.test_blender_round_trip import changed_shares
+
+JUDGED = ("browInnerUp", "browDown_L", "mouthSmile_L")  # brow raise, frown, smile
+NOT_FACE = ["eye_L", "eye_R", "teeth"]
+
+
+def strip_uvs(path: Path) -> Path:
+    """The same OBJ with no ``vt`` and faces of vertex numbers only."""
+    lines = [line for line in path.read_text().splitlines() if not line.startswith("vt ")]
+    lines = [re.sub(r"(\d+)/\d+", r"\1", line) if line.startswith("f ") else line
+             for line in lines]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture(scope="module")
+def imported(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("no_uv")
+    files = {name: strip_uvs(path)
+             for name, path in build_head("m", vertices=1220).write_set(folder / "m").items()}
+    args = ["new", "--mesh", str(files["neutral"]), "--not-face", *NOT_FACE, "--auto",
+            "-o", str(folder / "face.wrinkle")]
+    for pose in POSES:
+        args += ["--pose", f"{pose}={files[pose]}"]
+    out = io.StringIO()
+    with redirect_stdout(out):
+        assert main(args) == 0
+    return files, load_project(folder / "face.wrinkle"), out.getvalue()
+
+
+@pytest.mark.core
+def test_uvs_are_made_for_an_obj_without_any_and_poses_still_fit(tmp_path):
+    files = {name: strip_uvs(path)
+             for name, path in build_head("m", vertices=1220).write_set(tmp_path,
+                                                                        POSES[:1]).items()}
+    assert "vt " not in files["neutral"].read_text()
+    mesh = load_mesh(files["neutral"])
+    note = made_uvs(mesh)
+    assert note is not None and re.fullmatch(
+        rf"no UVs in {re.escape(str(files['neutral']))}: made them with xatlas, \d+ charts", note)
+    assert mesh.uvs.min() >= 0.0 and mesh.uvs.max() <= 1.0
+    # every triangle with area on the face has area in UV space: none folded to a line
+    uv = mesh.uvs[mesh.triangles].astype(np.float64)
+    area = np.abs(np.cross(uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]))
+    p = mesh.rest[mesh.welded_triangles].astype(np.float64)
+    surface = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    assert (area[surface > 1e-6 * surface.max()] > 0).all()
+    pose = load_pose(files[POSES[0]], mesh)  # the file's v order is kept
+    assert pose.positions.shape == mesh.rest.shape
+
+
+def test_new_says_it_made_the_uvs_and_keeps_them(imported):
+    files, project, out = imported
+    assert f"no UVs in {files['neutral']}: made them with xatlas" in out
+    made = load_mesh(files["neutral"])
+    assert project.mesh.n_welded == made.n_welded
+    assert np.allclose(np.sort(project.mesh.uvs, axis=0), np.sort(made.uvs, axis=0))
+
+
+def test_a_default_render_shows_brow_raise_frown_and_smile(imported):
+    _, project, _ = imported
+    for pose in JUDGED:
+        shares = changed_shares(project, pose)
+        print(pose, shares)
+        assert shares["t1"] >= 0.01 and shares["t2"] >= 0.01, (pose, shares)
