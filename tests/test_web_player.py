@@ -20,6 +20,7 @@ import pytest
 from scripts import web_picture
 from scripts.web_picture import changed, face_share
 from studio.cli import main
+from studio.commands.export import web_look
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.geometry import DeformCache
 from studio.core.project.sample import make_test_face
@@ -114,7 +115,7 @@ def test_without_a_pose_the_timeline_plays_and_with_one_the_face_holds_it(test_f
 
 @pytest.mark.core
 def test_the_page_needs_no_network_and_no_other_file():
-    page = web_page(make_test_face(561, texture_size=64, mask_size=32), OrbitCamera())
+    page = web_page(make_test_face(561, texture_size=64, mask_size=32), OrbitCamera(), web_look())
     assert not re.search(r"""(src|href)\s*=\s*["'][^"'#]""", page)  # nothing loaded from elsewhere
     assert "fetch(" not in page and "import " not in page and "http" not in page.lower()
 
@@ -136,7 +137,7 @@ def page_arrays(page: str) -> tuple[dict, dict[str, np.ndarray]]:
 @pytest.mark.core
 def test_each_pose_s_deltas_give_back_the_studio_s_posed_frame():
     project = make_test_face(561, texture_size=64, mask_size=32)
-    scene, arrays = page_arrays(web_page(project, OrbitCamera()))
+    scene, arrays = page_arrays(web_page(project, OrbitCamera(), web_look()))
     cache = DeformCache(project.mesh, "mikktspace")
     rest = arrays["rest"]
     for k, pose in enumerate(project.poses):
@@ -221,7 +222,7 @@ def test_the_page_s_links_and_curves_give_the_studio_s_activations():
     influence.links["frown"]["between brows"] = 0.6
     influence.areas[3].activation = 0.25  # an area's own value adds to its links'
     influence.areas[4].visible = False  # hidden: shows nothing whatever its links say
-    scene, arrays = page_arrays(web_page(project, OrbitCamera()))
+    scene, arrays = page_arrays(web_page(project, OrbitCamera(), web_look()))
     names = [p.name for p in project.poses]
     mixes = [{pose: w} for pose in names for w in (0.0, 0.13, 0.5, 0.81, 1.0)]
     mixes.append({"surprise": 0.4, "brow_raise_left": 0.9, "squeeze": 0.6})

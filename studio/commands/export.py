@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from studio.core.engines.layouts import LAYOUTS
+
+if TYPE_CHECKING:
+    from studio.core.project.web_export import WebLook
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -78,10 +82,8 @@ def run_web(args: argparse.Namespace) -> int:
     from studio.core.files.safe_io import check_output_folder
     from studio.core.mesh.camera import OrbitCamera
     from studio.core.project.reader import load_project
-    from studio.core.project.view_settings import ViewSettings
-    from studio.core.project.web_export import WebLook, export_web
+    from studio.core.project.web_export import export_web
     from studio.core.setup.face_frame import aim
-    from studio.render.settings import render_settings
 
     if args.layout:
         raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
@@ -90,12 +92,21 @@ def run_web(args: argparse.Namespace) -> int:
     camera = OrbitCamera.from_dict(project.view.get("camera", {}))
     aim(camera, project, "face")
     camera.yaw = 0.0
-    settings = render_settings(ViewSettings())
-    look = WebLook(light_dir=settings.light_dir, ambient=settings.ambient,
-                   specular=settings.specular, shininess=settings.shininess,
-                   background=settings.background, blend=settings.blend,
-                   tangent_frame=settings.tangent_frame)
-    files = export_web(project, args.web, camera, look)
+    files = export_web(project, args.web, camera, web_look())
     size = sum(f.stat().st_size for f in files)
     print(f"wrote {files[0]} ({size / 1e6:.1f} MB; open it in a browser, no network needed)")
     return 0
+
+
+def web_look() -> WebLook:
+    """The light, blend and tangent frame ``render`` draws with (its default view), for the
+    web page."""
+    from studio.core.project.view_settings import ViewSettings
+    from studio.core.project.web_export import WebLook
+    from studio.render.settings import render_settings
+
+    settings = render_settings(ViewSettings())
+    return WebLook(light_dir=settings.light_dir, ambient=settings.ambient,
+                   specular=settings.specular, shininess=settings.shininess,
+                   background=settings.background, blend=settings.blend,
+                   tangent_frame=settings.tangent_frame)

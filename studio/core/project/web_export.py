@@ -54,15 +54,16 @@ DELTA_EPSILON = 1e-7
 
 @dataclass(frozen=True)
 class WebLook:
-    """How the studio draws: the render settings' light and blend, for the page's uniforms."""
+    """How the studio draws (its render settings' light, blend and tangent frame, which the
+    command hands over: core cannot read the renderer's), for the page's uniforms."""
 
-    light_dir: tuple[float, float, float] = (0.45, 0.5, 0.75)
-    ambient: float = 0.1
-    specular: float = 0.12
-    shininess: float = 20.0
-    background: tuple[float, float, float] = (0.16, 0.17, 0.19)
-    blend: str = "colour"
-    tangent_frame: str = "mikktspace"
+    light_dir: tuple[float, float, float]
+    ambient: float
+    specular: float
+    shininess: float
+    background: tuple[float, float, float]
+    blend: str
+    tangent_frame: str
 
 
 class _Blob:
@@ -215,11 +216,12 @@ def web_scene(project: Project, camera: OrbitCamera, look: WebLook) -> tuple[dic
 
 
 def _script_json(value: object) -> str:
-    """JSON safe inside a ``<script>`` element (no ``</`` can close it early)."""
-    return json.dumps(value, separators=(",", ":")).replace("</", "<\\/")
+    """JSON safe inside a ``<script>`` element: no ``<`` at all, so neither ``</script>`` nor
+    ``<!--`` in a name or a shader's text can end or hide the element early."""
+    return json.dumps(value, separators=(",", ":")).replace("<", "\\u003c")
 
 
-def web_page(project: Project, camera: OrbitCamera, look: WebLook = WebLook()) -> str:
+def web_page(project: Project, camera: OrbitCamera, look: WebLook) -> str:
     """The player page's HTML: the template with the player, the studio's shaders and the
     face's data put in."""
     web = resource_dir() / "web"
@@ -236,7 +238,7 @@ def web_page(project: Project, camera: OrbitCamera, look: WebLook = WebLook()) -
 
 
 def export_web(project: Project, folder: str | Path, camera: OrbitCamera,
-               look: WebLook = WebLook()) -> list[Path]:
+               look: WebLook) -> list[Path]:
     """Write ``folder/index.html`` (all or nothing); returns the files written."""
     folder = Path(folder)
     path = folder / "index.html"
