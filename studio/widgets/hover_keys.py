@@ -86,6 +86,8 @@ class HoverKeys(QObject):
                 return False
             slot()
             return True
+        if kind == QEvent.Type.KeyRelease:
+            self._press_taken = None  # its press never came (the focus went): forget it
         return False
 
 
