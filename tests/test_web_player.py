@@ -230,3 +230,17 @@ def test_the_page_s_links_and_curves_give_the_studio_s_activations():
         weights = np.array([mix.get(name, 0.0) for name in names])
         np.testing.assert_allclose(page_activations(scene, arrays, weights),
                                    influence.activations(mix), atol=2e-3, err_msg=str(mix))
+
+
+def test_names_that_look_like_html_stay_inside_the_page_s_data(tmp_path):
+    """A pose named like markup: ``</script>`` would end the data early, and ``<!--<script>``
+    would keep the browser from seeing where it ends."""
+    project = make_test_face(561, texture_size=64, mask_size=32)
+    name = "frown<!--<script></script>"
+    project.poses[-1].name = name
+    (tmp_path / "index.html").write_text(web_page(project, OrbitCamera(), web_look()))
+    scene, _ = page_arrays((tmp_path / "index.html").read_text())
+    assert scene["poses"][-1]["name"] == name
+    dom = open_page(tmp_path / "index.html", "technique=t1", None)
+    assert 'data-ready="true"' in dom
+    assert "frown&lt;!--&lt;script&gt;&lt;/script&gt;</span>" in dom  # its slider's label
