@@ -121,3 +121,26 @@ def test_the_current_row_is_marked(blank, qtbot):
         return colour.red() + colour.green() - 2 * colour.blue()
 
     assert tint("surprise") > tint(others[0]) + 10
+
+
+def test_the_weight_a_click_would_set_shows_beside_the_pointer(blank, qtbot):
+    """Red once: with ``TrackViewBox.hoverEvent`` taken out the label never showed."""
+    panel = blank.timeline_panel
+    show_row(qtbot, panel, "frown")
+    viewport = panel.view.viewport()
+
+    def hover_at(frame: float, value: float) -> None:
+        at = panel.key_widget_pos("frown", frame, value)
+        for dx in (-6, -3, 0):
+            qtbot.mouseMove(viewport, at + QPoint(dx, 0))
+            qtbot.wait(30)  # a hand's pace: pyqtgraph drops moves that come too fast
+
+    hover_at(40, 0.0)
+    assert panel.weight_label.isVisible() and panel.weight_label.textItem.toPlainText() == (
+        "40: 0.00")
+    hover_at(40, 0.5)
+    assert panel.weight_label.textItem.toPlainText() == "40: 0.50"
+    click(qtbot, panel, panel.key_widget_pos("frown", 40, 0.5))
+    assert (40.0, 0.5) in [k[:2] for k in keys(blank, "frown")]  # the weight it said
+    hover_at(40, 0.5)  # over the new key: a click would select it, not key
+    assert not panel.weight_label.isVisible()

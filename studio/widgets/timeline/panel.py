@@ -143,6 +143,13 @@ class TrackViewBox(TimeViewBox):
             return  # a click on the names' column (forwarded by the axis): nothing to add
         self.panel.track_clicked(self.mapSceneToView(ev.scenePos()), ev.modifiers())
 
+    def hoverEvent(self, ev) -> None:
+        """The weight a click would set, shown beside the pointer before the click."""
+        if ev.isExit():
+            self.panel.show_weight_under(None)
+        else:
+            self.panel.show_weight_under(self.mapSceneToView(ev.scenePos()))
+
     def mouseDragEvent(self, ev, axis=None) -> None:
         if ev.button() != Qt.MouseButton.LeftButton:
             super().mouseDragEvent(ev, 0)
@@ -399,6 +406,11 @@ class TimelinePanel(QWidget):
         self.curves.addItem(self.curve_playhead)
         self.keys_item = pg.ScatterPlotItem(symbol="d", size=13, pxMode=True)
         self.keys_item.setZValue(20)
+        self.weight_label = pg.TextItem(color=(255, 230, 150), anchor=(-0.15, 1.0),
+                                        fill=(20, 20, 24, 190))
+        self.weight_label.setZValue(40)
+        self.weight_label.hide()
+        self.tracks.addItem(self.weight_label, ignoreBounds=True)
         self.tracks.addItem(self.keys_item)
         self.track_curves: dict[str, pg.PlotDataItem] = {}
         self._track_pool: list[pg.PlotDataItem] = []
@@ -785,6 +797,17 @@ class TimelinePanel(QWidget):
         self.set_current_pose(pose)
         ref = self.edits.add_key(pose, float(round(pos.x())), self.value_at_y(pos.y()))
         self._select({ref})
+
+    def show_weight_under(self, pos: QPointF | None) -> None:
+        """Beside the pointer in a row: the frame and weight a click there would key (nothing
+        over a key, which a click selects, or outside the rows)."""
+        pose = None if pos is None or self._drag else self.pose_at(pos.y())
+        if pose is None or self.key_at(pos) is not None:
+            self.weight_label.hide()
+            return
+        self.weight_label.setText(f"{round(pos.x())}: {self.value_at_y(pos.y()):.2f}")
+        self.weight_label.setPos(pos)
+        self.weight_label.show()
 
     def drag_started(self, pos: QPointF) -> None:
         self.view.setFocus()
