@@ -26,7 +26,7 @@ def test_a_new_colour_is_far_from_every_colour_in_use():
     rng = np.random.default_rng(3)
     used = [tuple(int(v) for v in c) for c in rng.integers(0, 256, (17, 3))]
     new = distinct_colour(used)
-    nearest = colour_distance(np.array(used + [SELECTION]), np.array(new)).min()
+    nearest = colour_distance(np.array([*used, SELECTION]), np.array(new)).min()
     assert nearest > 90
     assert distinct_colour([]) != SELECTION
     assert colour_distance(np.array(distinct_colour([(255, 0, 0)])), np.array(SELECTION)) > 100
