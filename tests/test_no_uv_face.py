@@ -17,6 +17,7 @@ import pytest
 from studio.cli import main
 from studio.core.mesh.meshio import load_mesh, load_pose, made_uvs
 from studio.core.project.reader import load_project
+from studio.core.wrinkles.mask_ops import auto_mask, uv_coverage
 from tests.production_head import POSES, build_head
 from tests.test_blender_round_trip import changed_shares
 
@@ -83,3 +84,42 @@ def test_a_default_render_shows_brow_raise_frown_and_smile(imported):
         shares = changed_shares(project, pose)
         print(pose, shares)
         assert shares["t1"] >= 0.01 and shares["t2"] >= 0.01, (pose, shares)
+
+
+def curvature_on_edges(mask: np.ndarray, mesh) -> float:
+    """How much more the mask bends on its UV triangles' edges than inside them: the mean
+    |Laplacian| on texels an edge crosses over that on the others, inside the charts (away
+    from their borders) where the mask is on. A value interpolated across each triangle is
+    linear there and bends only on the edges (about 1.4 here, what shows as triangle-stepped
+    outlines); a field smooth on the surface bends wherever it does (about 1)."""
+    size = mask.shape[0]
+    inner = uv_coverage(mesh, size)
+    for _ in range(6):
+        inner[1:-1, 1:-1] &= (inner[:-2, 1:-1] & inner[2:, 1:-1] & inner[1:-1, :-2]
+                              & inner[1:-1, 2:])
+    on_edge = np.zeros((size, size), bool)
+    uv = mesh.uvs[mesh.triangles]
+    for t in range(3):
+        a, b = uv[:, t], uv[:, (t + 1) % 3]
+        for f in np.linspace(0.0, 1.0, 60):
+            q = a + (b - a) * f
+            on_edge[np.clip(((1 - q[:, 1]) * size).astype(int), 0, size - 1),
+                    np.clip((q[:, 0] * size).astype(int), 0, size - 1)] = True
+    lap = np.abs(4 * mask[1:-1, 1:-1] - mask[:-2, 1:-1] - mask[2:, 1:-1] - mask[1:-1, :-2]
+                 - mask[1:-1, 2:])
+    judged = inner[1:-1, 1:-1] & (mask[1:-1, 1:-1] > 0.02)
+    edge = on_edge[1:-1, 1:-1]
+    return float(lap[judged & edge].mean() / lap[judged & ~edge].mean())
+
+
+@pytest.mark.core
+@pytest.mark.parametrize("pose", ["browDown_L", "mouthSmile_L"])
+def test_auto_masks_on_the_low_resolution_face_do_not_follow_its_triangles(tmp_path, pose):
+    """The Areas panel's Auto mask on the 1,220-vertex face (its UV triangles some 20 texels
+    across at 1024): smooth across the triangles, not stepped along their edges."""
+    files = {name: strip_uvs(path) for name, path in
+             build_head("m", vertices=1220).write_set(tmp_path, (pose,)).items()}
+    mesh = load_mesh(files["neutral"])
+    mask = auto_mask(mesh, load_pose(files[pose], mesh).positions, 1024)
+    assert mask.max() > 0.9
+    assert curvature_on_edges(mask, mesh) < 1.15

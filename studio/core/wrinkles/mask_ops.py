@@ -197,8 +197,77 @@ def auto_mask(mesh: FaceMesh, posed_welded: Array, size: int, threshold: float =
     compression = strain.of(np.asarray(posed_welded, np.float32)).compression
     strength = compression_weights(strain, compression, threshold)
     work = min(size, work_size)
-    img, _ = rasterise_uv(mesh.uvs, mesh.triangles, strength[mesh.weld], work)
+    img = surface_image(mesh, strength, work, softness * work / size)
     img = blur(img, softness * work / size)
     out = resample(img, size)
     out[out < 1e-3] = 0.0
     return out
+
+
+# --- smooth per-vertex fields on a coarse mesh ---------------------------------------------------
+
+COARSE = 3.0  # UV edges this many blur radii long or more: triangles would show in a mask
+KERNEL_EDGES = 1.0  # the kernel's reach on the surface, in the mesh's median edge lengths
+_PAIRS = 1 << 22  # texel-vertex pairs per step of the kernel sums (~100 MB)
+
+
+def surface_image(mesh: FaceMesh, welded: Array, size: int, blur_px: float) -> Array:
+    """Per-welded-vertex values as a (size, size) UV image, interpolated over the triangles —
+    or, on a mesh whose UV triangles are several blur radii across (a low-resolution face),
+    as a smooth kernel average of the vertices around each texel's point on the surface.
+
+    Why: a value interpolated across a triangle is linear there, so a region that ends at
+    some vertices ends along triangle edges; on a coarse mesh the blur is far too small to hide
+    that, and a mask shows the triangles. Weighing the vertices within ``KERNEL_EDGES`` median
+    edges of the texel's 3D point (``(1 − d²/r²)³``) gives a field as smooth as the surface,
+    whatever the triangulation; measured on the surface, so it never crosses a UV seam or
+    bleeds into the chart packed beside it.
+    """
+    values = np.asarray(welded, np.float32)
+    image, covered = rasterise_uv(mesh.uvs, mesh.triangles, values[mesh.weld], size)
+    tri = mesh.triangles
+    uv = mesh.uvs[tri].astype(np.float64)
+    edge_px = np.median(np.linalg.norm(uv - np.roll(uv, 1, axis=1), axis=2)) * size
+    active = np.flatnonzero(values > 0.0)
+    if edge_px < COARSE * max(blur_px, 1.0) or len(active) == 0:
+        return image
+    rest = mesh.rest.astype(np.float64)
+    welded_tris = mesh.welded_triangles
+    edges = np.linalg.norm(rest[welded_tris] - rest[np.roll(welded_tris, 1, axis=1)], axis=2)
+    reach = KERNEL_EDGES * float(np.median(edges))
+    # each covered texel's point on the surface: positions are linear in a triangle too
+    texels = np.flatnonzero(covered)
+    points = np.stack([rasterise_uv(mesh.uvs, tri, rest[mesh.weld][:, k].astype(np.float32),
+                                    size)[0].ravel()[texels] for k in range(3)], axis=1)
+    # only texels near a vertex with a value can change, and only vertices near those count
+    near_active = _within(points, rest[active], reach)
+    candidates = np.flatnonzero(_within(rest, rest[active], 2.0 * reach))
+    out = image.ravel().copy()
+    todo = texels[near_active]
+    pts = points[near_active]
+    step = _chunk(len(candidates))
+    for start in range(0, len(todo), step):
+        p = pts[start:start + step]
+        d2 = ((p[:, None, :] - rest[candidates][None]) ** 2).sum(-1) / reach ** 2
+        w = np.clip(1.0 - d2, 0.0, None) ** 3
+        total = w.sum(axis=1)
+        smooth = (w @ values[candidates].astype(np.float64)) / np.maximum(total, 1e-12)
+        keep = total > 1e-6  # a texel no vertex reaches keeps its interpolated value
+        out[todo[start:start + step][keep]] = smooth[keep]
+    return out.reshape(size, size).astype(np.float32)
+
+
+def _within(points: Array, centres: Array, reach: float) -> Array:
+    """(len(points),) bool: within ``reach`` of any centre (brute force, in chunks)."""
+    found = np.zeros(len(points), bool)
+    step = _chunk(len(centres))
+    for start in range(0, len(points), step):
+        p = points[start:start + step]
+        d2 = ((p[:, None, :] - centres[None]) ** 2).sum(-1).min(axis=1)
+        found[start:start + step] = d2 <= reach * reach
+    return found
+
+
+def _chunk(others: int) -> int:
+    """Rows per step so that a step's (rows, others, 3) differences stay near 100 MB."""
+    return max(1, _PAIRS // max(others, 1))
