@@ -21,11 +21,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def write_fbx(path: Path, skeleton: bool = False, up: str = "Y",
-              poses: list[str] | None = None) -> Path:
+              poses: list[str] | None = None, uvs: bool = True) -> Path:
     """Run this file under the test's Python (which has bpy) and return ``path``."""
     args = [sys.executable, str(Path(__file__).resolve()), str(path), "--up", up]
     if skeleton:
         args.append("--skeleton")
+    if not uvs:
+        args.append("--no-uvs")
     if poses:
         args += ["--poses", ",".join(poses)]
     done = subprocess.run(args, capture_output=True, text=True, timeout=600, cwd=ROOT)
@@ -35,7 +37,7 @@ def write_fbx(path: Path, skeleton: bool = False, up: str = "Y",
     return path
 
 
-def _build(out: str, skeleton: bool, up: str, poses: list[str] | None) -> None:
+def _build(out: str, skeleton: bool, up: str, poses: list[str] | None, uvs: bool) -> None:
     import bpy
     import numpy as np
 
@@ -53,8 +55,9 @@ def _build(out: str, skeleton: bool, up: str, poses: list[str] | None) -> None:
     data = bpy.data.meshes.new("HeadMesh")
     tris = mesh.welded_triangles
     data.from_pydata(blender_frame(mesh.rest).tolist(), [], tris.tolist())
-    uv = data.uv_layers.new(name="UVMap")
-    uv.data.foreach_set("uv", mesh.uvs[mesh.triangles].reshape(-1).astype(np.float32))
+    if uvs:
+        uv = data.uv_layers.new(name="UVMap")
+        uv.data.foreach_set("uv", mesh.uvs[mesh.triangles].reshape(-1).astype(np.float32))
     skin = bpy.data.materials.new("M_Skin")
     eyes = bpy.data.materials.new("M_EyesTeeth")
     data.materials.append(skin)
@@ -101,8 +104,10 @@ def main() -> None:
     parser.add_argument("--skeleton", action="store_true")
     parser.add_argument("--up", default="Y")
     parser.add_argument("--poses")
+    parser.add_argument("--no-uvs", action="store_true")
     args = parser.parse_args()
-    _build(args.out, args.skeleton, args.up, args.poses.split(",") if args.poses else None)
+    _build(args.out, args.skeleton, args.up, args.poses.split(",") if args.poses else None,
+           not args.no_uvs)
 
 
 if __name__ == "__main__":

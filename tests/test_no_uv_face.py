@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core.mesh.meshio import load_mesh, load_pose, made_uvs
+from studio.core.mesh.meshio import load_mesh, load_pose, made_uvs, save_obj
 from studio.core.project.reader import load_project
 from studio.core.wrinkles.mask_ops import auto_mask, uv_coverage
 from tests.production_head import POSES, build_head
@@ -76,6 +76,20 @@ def test_new_says_it_made_the_uvs_and_keeps_them(imported):
     made = load_mesh(files["neutral"])
     assert project.mesh.n_welded == made.n_welded
     assert np.allclose(np.sort(project.mesh.uvs, axis=0), np.sort(made.uvs, axis=0))
+
+
+def test_the_made_uvs_travel_in_the_exports(imported, tmp_path):
+    """A glTF export and an OBJ of the face carry the UVs the studio made."""
+    from studio.core.project.gltf import load_gltf, save_gltf
+
+    _, project, _ = imported
+    save_gltf(project, tmp_path / "face.glb")
+    back = load_gltf(tmp_path / "face.glb")
+    assert np.allclose(back.mesh.uvs, project.mesh.uvs, atol=1e-6)
+    save_obj(tmp_path / "face.obj", project.mesh)
+    again = load_mesh(tmp_path / "face.obj")
+    assert made_uvs(again) is None  # it has UVs now: the studio's
+    assert np.allclose(np.sort(again.uvs, axis=0), np.sort(project.mesh.uvs, axis=0), atol=1e-5)
 
 
 def test_a_default_render_shows_brow_raise_frown_and_smile(imported):

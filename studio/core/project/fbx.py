@@ -66,7 +66,8 @@ def load_fbx(path: str | Path, keep: Collection[str] | None = None,
     merged = merge_face(choice, str(path))
     mesh = merged.mesh
     lines = [line.replace("glTF scene:", "FBX scene:", 1) for line in report_lines(choice, merged)]
-    if not any(len(p.uvs) and np.ptp(p.uvs) > 0 for m in meshes for p in m.primitives):
+    bare = [i for i in choice.kept_meshes() if len(data[f"m{i}_uvs"]) == 0]
+    if bare:  # a face mesh without UVs: the merged face unwrapped as one
         made = unwrap(mesh.rest, mesh.welded_triangles, str(path))
         mesh = FaceMesh(made.mesh.rest, made.mesh.triangles, made.mesh.uvs, made.mesh.weld,
                         str(path))
