@@ -21,7 +21,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("new", help="make a project from your own meshes and maps")
     source = p.add_mutually_exclusive_group(required=True)
     source.add_argument("--mesh", help="neutral mesh (OBJ, PLY, glTF, …)")
-    source.add_argument("--gltf", help="glTF with morph targets: they become the key poses; "
+    source.add_argument("--gltf", help="glTF or VRM with morph targets: they (a VRM's "
+                        "expressions) become the key poses; "
                         "in a whole avatar the face is found (the meshes the targets move, "
                         "eyes and teeth not face, the rest left out) and said")
     p.add_argument("--pose", action="append", type=parse_pose, default=[], metavar="NAME=FILE",
@@ -40,6 +41,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--up", metavar="AXIS",
                    help="the head's up axis (x, y, z, -x, -y, -z); by default found from the "
                         "poses' motion or the mesh's extent, and said")
+    p.add_argument("--front", metavar="AXIS",
+                   help="the way the face looks (x, y, z, -x, -y, -z), at right angles to up; "
+                        "by default found from the way the moving skin faces (a VRM's own), "
+                        "and said")
     p.add_argument("--flip-green", action="store_true",
                    help="the normal maps use the DirectX convention (green down)")
     p.add_argument("--auto", action="store_true",
@@ -50,36 +55,82 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=run)
 
 
+def _obj_choice(args: argparse.Namespace, found: list[str]
+                ) -> tuple[list[str] | None, list[str] | None]:
+    """(keep, not face) for ``project_from_files``: the user's, or — for an OBJ of several
+    parts with ``--auto`` — the parts found (helpers, hair cards and joint markers left out;
+    eyes, teeth and lashes not face), said in one line of ``found``; without ``--auto`` the
+    line only suggests. What the user names wins: ``--keep`` replaces the parts left out,
+    ``--not-face`` the parts not face."""
+    from studio.core.project.assemble import choose_obj_parts
+
+    keep, not_face = args.keep, args.not_face or None
+    choice = (choose_obj_parts(args.mesh, dict(args.pose))
+              if args.mesh and (keep is None or not_face is None) else None)
+    if choice is None:
+        return keep, not_face
+    if keep is not None:  # the user's parts: suggest not face among them only
+        choice.face, choice.left_out = list(keep), {}
+        choice.not_face = {n: why for n, why in choice.not_face.items() if n in keep}
+    if not_face is not None:
+        choice.not_face = {n: "named" for n in not_face}
+    if not args.auto:
+        if choice.left_out or (choice.not_face and args.not_face == []):
+            found.append(f"suggested, applied with --auto: {choice.line()}")
+        return keep, not_face
+    found.append(choice.line())
+    if keep is None and choice.left_out:
+        keep = choice.face
+    return keep, not_face if not_face is not None else (list(choice.not_face) or None)
+
+
 def run(args: argparse.Namespace) -> int:
     from studio.core.files.safe_io import check_output
     from studio.core.project.assemble import project_from_files
+    from studio.core.project.vrm import leave_out_toggles
     from studio.core.project.writer import save_project
-    from studio.core.setup.face_frame import face_frame, face_locator, parse_axis
+    from studio.core.setup.face_frame import (
+        beyond_the_head,
+        face_frame,
+        face_locator,
+        parse_axis,
+    )
     from studio.core.wrinkles.normalmap import flip_green
 
-    if args.up is not None:
-        parse_axis(args.up)  # a bad axis fails before any work
+    for axis in (args.up, args.front):
+        if axis is not None:
+            parse_axis(axis)  # a bad axis fails before any work
     check_output(args.output, [args.mesh, args.gltf, args.diffuse, args.normal,
                                args.wrinkle_normal, *(path for _, path in args.pose)],
                  what="project")
     names = [name for name, _ in args.pose]
     if len(set(names)) != len(names):
         raise StudioError("two --pose options have the same name")
-    found: list[str] = []  # what was chosen in a glTF scene
+    found: list[str] = []  # what was chosen in a glTF scene or an OBJ's parts
+    keep, not_face = _obj_choice(args, found)
     project = project_from_files(args.mesh or args.gltf, dict(args.pose), args.diffuse,
                                  args.normal, args.wrinkle_normal,
-                                 keep=args.keep, not_face=args.not_face or None, report=found)
+                                 keep=keep, not_face=not_face, report=found)
     if args.flip_green:
         project.textures.normal_neutral = flip_green(project.textures.normal_neutral)
         project.textures.normal_wrinkled = flip_green(project.textures.normal_wrinkled)
-    if args.up is not None:
-        project.view["up"] = args.up
+    for key, axis in (("up", args.up), ("front", args.front)):
+        if axis is not None:  # the user's word over a VRM's
+            project.view[key] = axis
+    toggles = leave_out_toggles(project, found) if args.auto else set()
     frame = face_frame(project)
+    body = beyond_the_head(frame, project.mesh.rest, project.skin_weights())
+    if body is not None:  # a whole body: its face is measured against the head, not the body
+        project.not_face = body if project.not_face is None else project.not_face | body
+        found.append(f"a whole body: {int(body.sum())} vertices beyond the head marked not face")
+        frame = face_frame(project)
     done = []
     if args.auto:
         from studio.core.setup.auto_setup import auto_start
 
-        done = auto_start(project, locate=face_locator(frame))
+        done = auto_start(project, locate=face_locator(frame),
+                          poses=[p.name for p in project.poses if p.name not in toggles]
+                          if toggles else None)
     out = Path(args.output)
     save_project(project, out)
     # names come from the user's files: each shown on the line it belongs to, escaped

@@ -11,30 +11,69 @@ are packed into one atlas and texture sets composed into it (``uv_tiles``, ``tex
 from __future__ import annotations
 
 from collections.abc import Collection, Iterable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from studio.core.animation.poses import NEUTRAL
 from studio.core.files.errors import MeshError
-from studio.core.mesh.meshio import load_mesh, load_pose, not_face_vertices, obj_groups
+from studio.core.mesh.meshio import KINDS, load_mesh, load_pose, not_face_vertices, obj_groups
 from studio.core.mesh.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
-from studio.core.project.face_parts import Part, suggest_names, suggest_parts
+from studio.core.project.face_parts import Part, choose_parts, suggest_names, suggest_parts
 from studio.core.project.fbx import load_fbx
 from studio.core.project.gltf import load_gltf
+from studio.core.project.gltf_container import _Gltf
 from studio.core.project.model import Project
 from studio.core.project.texture_sets import load_texture
+from studio.core.project.vrm import SUFFIX as VRM_SUFFIX
+from studio.core.project.vrm import apply_expressions, check_suffix, vrm_info, vrm_target_names
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
 
 FLAT_NORMAL = (128, 128, 255)
 
 
+VRM_SNIFF = 1 << 20  # bytes of a .glb searched for a VRM extension's name (in its JSON)
 RIGID_SAMPLE = 8  # key-pose files read to suggest parts the poses move rigidly
 
 
 def suggest_not_face(names: Iterable[str]) -> list[str]:
     """The part names that look like eyes, teeth or tongue: a starting choice for the user."""
     return suggest_names(names)
+
+
+def _obj_parts(mesh: str | Path, kind: str, poses: Mapping[str, str | Path] | None,
+               sample: int | None) -> tuple[list[str], list[Part], list[set[int]]]:
+    """An OBJ's parts of ``kind`` as ``face_parts.Part``s (names, positions, triangles, their
+    positions in the key poses: up to ``sample`` pose files spread over the list, None for
+    all; one that cannot be read is left out here, the project's load reports it) and, for
+    each, the parts it shares a vertex with."""
+    face = load_mesh(mesh)
+    names = [g.name for g in obj_groups(mesh) if g.kind == kind]
+    paths = list((poses or {}).values())
+    if sample is not None and len(paths) > sample:
+        paths = [paths[i] for i in np.linspace(0, len(paths) - 1, sample).round()
+                 .astype(int)]
+    shapes = []
+    for path in paths:
+        try:
+            shapes.append(load_pose(path, face).positions)
+        except MeshError:
+            continue
+    tris = face.welded_triangles
+    parts, owner = [], np.full(face.n_welded, -1)
+    shared: list[set[int]] = [set() for _ in names]
+    for k, name in enumerate(names):
+        inside = not_face_vertices(face, [name], kind)
+        own = tris[inside[tris].all(axis=1)]
+        vertices, local = np.unique(own, return_inverse=True)
+        for other in set(owner[vertices].tolist()) - {-1}:
+            shared[k].add(other)
+            shared[other].add(k)
+        owner[vertices] = k
+        parts.append(Part([name], face.rest[vertices], local.reshape(-1, 3),
+                          [shape[vertices] for shape in shapes]))
+    return names, parts, shared
 
 
 def suggest_obj_parts(mesh: str | Path, kind: str,
@@ -45,31 +84,57 @@ def suggest_obj_parts(mesh: str | Path, kind: str,
     over the list: a suggestion, made while the user picks files, not a proof). A pose file
     that cannot be read is left out here (Create reports it). Never every part: the largest
     stays face."""
-    face = load_mesh(mesh)
-    names = [g.name for g in obj_groups(mesh) if g.kind == kind]
-    paths = list((poses or {}).values())
-    if len(paths) > RIGID_SAMPLE:
-        paths = [paths[i] for i in np.linspace(0, len(paths) - 1, RIGID_SAMPLE).round()
-                 .astype(int)]
-    shapes = []
-    for path in paths:
-        try:
-            shapes.append(load_pose(path, face).positions)
-        except MeshError:
-            continue
-    tris = face.welded_triangles
-    parts, sizes = [], []
-    for name in names:
-        inside = not_face_vertices(face, [name], kind)
-        own = tris[inside[tris].all(axis=1)]
-        vertices, local = np.unique(own, return_inverse=True)
-        parts.append(Part([name], face.rest[vertices], local.reshape(-1, 3),
-                          [shape[vertices] for shape in shapes]))
-        sizes.append(len(own))
+    names, parts, _ = _obj_parts(mesh, kind, poses, RIGID_SAMPLE)
     flagged = {names[i]: why for i, why in suggest_parts(parts).items()}
     if names and len(flagged) == len(names):
-        del flagged[names[int(np.argmax(sizes))]]
+        del flagged[names[int(np.argmax([len(p.triangles) for p in parts]))]]
     return flagged
+
+
+@dataclass
+class ObjChoice:
+    """What ``choose_obj_parts`` found in an OBJ: the kind of part it split by, the face's
+    parts, and the parts left out and not face, each with why."""
+
+    kind: str
+    face: list[str]
+    left_out: dict[str, str]
+    not_face: dict[str, str]
+
+    def line(self) -> str:
+        """The one line of report: what was chosen, and the options that change it."""
+        def listed(parts: dict[str, str]) -> str:
+            return ", ".join(f"{n} ({why})" for n, why in parts.items())
+
+        kinds = f"{self.kind}s" if self.kind != "material" else "materials"
+        text = (f"OBJ {kinds}: {len(self.face) + len(self.left_out)}; the face: "
+                f"{', '.join(n for n in self.face if n not in self.not_face)}")
+        if self.not_face:
+            text += f"; not face: {listed(self.not_face)}"
+        if self.left_out:
+            text += f"; left out: {listed(self.left_out)}"
+        return text + " (change with --keep and --not-face)"
+
+
+def choose_obj_parts(mesh: str | Path, poses: Mapping[str, str | Path] | None = None
+                     ) -> ObjChoice | None:
+    """The face in an OBJ of several parts (a head with its eyes and teeth, a whole body with
+    hair cards, joint markers and helpers): split by the kind of part that divides it most
+    (objects, groups or materials), the parts left out and the parts not face chosen by
+    ``face_parts.choose_parts`` from names, shells and every key pose's motion. None for an
+    OBJ of one part, or not an OBJ."""
+    if Path(mesh).suffix.lower() != ".obj":
+        return None
+    groups = obj_groups(mesh)
+    counts = {kind: sum(g.kind == kind for g in groups) for kind in KINDS}
+    kind = max(KINDS, key=lambda k: counts[k])
+    if counts[kind] < 2:
+        return None
+    names, parts, shared = _obj_parts(mesh, kind, poses, None)
+    left, not_face = choose_parts(parts, shared)
+    return ObjChoice(kind, [n for i, n in enumerate(names) if i not in left],
+                     {names[i]: why for i, why in left.items()},
+                     {names[i]: why for i, why in not_face.items()})
 
 
 def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
@@ -84,9 +149,11 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
     suggestion for a glTF; ``part_kind``: "object", "group", "material" or "mesh" when the
     names are of that kind only (None: any); ``report``: a line for each choice made for
     the user (a glTF's face, its not-face parts, what was left out)."""
-    if Path(mesh).suffix.lower() in (".glb", ".gltf"):
-        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name,
-                          load_gltf(mesh, keep, not_face, part_kind, report))
+    if Path(mesh).suffix.lower() in (".glb", ".gltf", VRM_SUFFIX):
+        said = report if report is not None else []
+        project = load_gltf(mesh, keep, not_face, part_kind, said)
+        _vrm_expressions(project, mesh, said)
+        return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name, project)
     if Path(mesh).suffix.lower() == ".fbx":  # blend shapes as key poses, the face found
         return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name,
                           load_fbx(mesh, keep, not_face, part_kind, report))
@@ -117,6 +184,21 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
     )
     return Project(name or Path(mesh).stem, face, key_poses, textures, not_face=not_skin,
                    uv_tiles=tiles)
+
+
+def _vrm_expressions(project: Project, path: str | Path, report: list[str]) -> None:
+    """A VRM's expressions as the key poses and its axes (core/project/vrm.py). A file of
+    another suffix is read again only when it names a VRM extension (one renamed .glb)."""
+    if project.influence.areas or project.wdv.areas:  # the studio's own file, set up already
+        return
+    if not check_suffix(path):
+        with open(path, "rb") as file:
+            if b'"VRM' not in file.read(VRM_SNIFF):
+                return
+    doc = _Gltf(Path(path)).doc
+    info = vrm_info(doc, path)
+    if info is not None:
+        apply_expressions(project, info, vrm_target_names(doc), report)
 
 
 def _embedded_to_atlas(textures: FaceTextures, layout: TileLayout) -> None:

@@ -14,6 +14,12 @@ not skin, and a wrinkle on them is a bug. Three signs, any one enough:
 
 Usable for an OBJ's parts and a glTF's meshes and materials alike: a part is its names, its
 welded positions and triangles, and its positions in each key pose.
+
+A whole-body export holds more than the head's parts: hair cards, joint markers (small cubes),
+helper and clothing geometry. They are not merely not face but in the way (hair cards hang
+before the forehead, a marker floats before each eye), so ``choose_parts`` leaves them out: by
+name (helper, joint, hair, clothing words), or as a part no pose moves that shares no vertex
+with one the poses move (a scalp sewn to the face stays).
 """
 
 from __future__ import annotations
@@ -32,8 +38,13 @@ NOT_FACE_WORDS = frozenset({
     "occlusion", "blend", "teeth", "tooth", "tongue", "gum", "gums", "mouthbag", "caruncle",
     "meniscus"})
 SKIN_AFTER_EYE = frozenset({"lid", "lids", "brow", "brows", "socket", "bag", "bags"})
+LEFT_OUT_WORDS = frozenset({
+    "helper", "helpers", "joint", "joints", "marker", "markers", "hair", "haircard", "haircards",
+    "cloth", "clothes", "clothing", "outfit", "shirt", "jacket", "pants", "trousers", "skirt",
+    "dress", "tights", "shoe", "shoes", "boot", "boots", "hat", "cap", "glasses"})
 SHELL_SHARE = 0.2  # a closed shell smaller than this share of the whole is an eye or a tooth
 RIGID_RESIDUAL = 0.01  # of a pose's largest motion of the part: what still counts as rigid
+MOVED_SHARE = 1e-5  # of the whole's size: a part moved less than this by every pose is still
 
 
 def name_words(name: str) -> list[str]:
@@ -126,3 +137,40 @@ def suggest_parts(parts: Sequence[Part]) -> dict[int, str]:
         elif moves_rigidly(rest, part.poses):
             out[i] = "moved rigidly"
     return out
+
+
+def is_left_out_name(name: str) -> bool:
+    """A name that says helper, joint marker, hair or clothing: geometry around a body that is
+    no part of the face ("helper-tights", "joint-l-eye", "HairCards", "Outfit_Top")."""
+    return any(word in LEFT_OUT_WORDS for word in name_words(name))
+
+
+def choose_parts(parts: Sequence[Part], shared: Sequence[set[int]] | None = None
+                 ) -> tuple[dict[int, str], dict[int, str]]:
+    """(left out, not face): the parts to leave out of the face, each with why ("name", "no
+    pose moves it"), and of the rest those suggested not face (``suggest_parts``). A part is
+    left out unmoved only when some part moves and it touches none that does: ``shared[i]``
+    holds the indices of the parts part i shares a vertex with (None: none share). The largest
+    part the poses move (or the largest, when none moves) is always kept as face."""
+    if not parts:
+        return {}, {}
+    points = np.concatenate([np.asarray(p.rest, np.float64) for p in parts])
+    whole = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
+    moved = [max((float(np.abs(np.asarray(pose) - part.rest).max(initial=0.0))
+                  for pose in part.poses), default=0.0) > MOVED_SHARE * whole
+             for part in parts]
+    sizes = [len(part.triangles) for part in parts]
+    face = max(range(len(parts)), key=lambda i: (moved[i], sizes[i]))
+    left: dict[int, str] = {}
+    for i, part in enumerate(parts):
+        if i == face:
+            continue
+        if any(is_left_out_name(n) for n in part.names):
+            left[i] = "name"
+        elif (any(moved) and not moved[i] and not any(is_not_face_name(n) for n in part.names)
+              and not any(moved[j] for j in (shared[i] if shared else ()))):
+            left[i] = "no pose moves it"
+    rest = [i for i in range(len(parts)) if i not in left]
+    suggested = suggest_parts([parts[i] for i in rest])
+    not_face = {rest[k]: why for k, why in suggested.items() if rest[k] != face}
+    return left, not_face

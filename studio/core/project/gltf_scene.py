@@ -268,6 +268,12 @@ def _is_surface(prim: dict) -> bool:
             and "TEXCOORD_0" in attrs)
 
 
+def target_names(spec: dict) -> list[str]:
+    """A mesh's morph target names, as its poses are named (VRM expressions bind them)."""
+    prims = spec.get("primitives")
+    return _target_names(spec, prims if isinstance(prims, list) else [])
+
+
 def _target_names(spec: dict, prims: list) -> list[str]:
     """Target names from the mesh's extras, else the first primitive's, else numbered."""
     count = max((len(p.get("targets", [])) for p in prims if isinstance(p, dict)), default=0)

@@ -37,6 +37,9 @@ AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
 SNAP_DEGREES = 30.0  # a detected direction this close to an axis is taken as that axis
 DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation is face
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
+BODY_HEIGHTS = 4.0  # skin this many face boxes tall is a body, not a head and neck …
+HEAD_REACH = (1.8, (-1.5, 1.8), 2.6)  # … whose skin past these (face |x|, y, |z|) is not face
+SYMMETRY_SAMPLE = 600  # points of the face region compared with their mirror image
 MANY_POSES = 10  # in a rig of this many poses or more, the face ends below where two of them …
 SHARED_LEAST = 0.25  # … deform the skin, unless that is under a quarter of what any of them does
 
@@ -84,12 +87,30 @@ def _snap(vector: Array, allowed: Iterable[str] = AXES) -> tuple[Array, bool]:
 
 
 def face_frame(project) -> FaceFrame:
-    """A project's face frame (``project.view["up"]`` is the up axis chosen at import, if
-    any). ``project`` is a ``studio.core.project.model.Project``."""
+    """A project's face frame (``project.view["up"]`` and ``["front"]`` are the axes chosen at
+    import, if any). ``project`` is a ``studio.core.project.model.Project``."""
     return detect_face_frame(project.mesh.rest, project.mesh.welded_triangles,
                              [p.positions for p in project.poses],
                              [p.name for p in project.poses], project.skin_weights(),
-                             project.view.get("up"))
+                             project.view.get("up"), project.view.get("front"))
+
+
+def beyond_the_head(frame: FaceFrame, rest: Array, skin: Array) -> Array | None:
+    """(W,) bool: in a whole body, the skin beyond the head (shoulders, torso, limbs) — to be
+    marked not face, so that what is measured as "the skin" (its size, its most forward point,
+    the share a pose compresses) is the head's, not a body's ten times larger. None for a head
+    (the skin is under ``BODY_HEIGHTS`` face boxes tall along up) or when nothing lies beyond.
+    ``skin``: (W,) weights, 0 for parts already not face."""
+    skin = np.asarray(skin) > 0
+    if not skin.any():
+        return None
+    local = frame.to_face(rest)
+    if np.ptp(local[skin, 1]) < 2.0 * BODY_HEIGHTS:  # the face box spans 2 in face y
+        return None
+    reach_x, (low, high), reach_z = HEAD_REACH
+    beyond = skin & ((np.abs(local[:, 0]) > reach_x) | (local[:, 1] < low) | (local[:, 1] > high)
+                     | (np.abs(local[:, 2]) > reach_z))
+    return beyond if beyond.any() and not beyond[skin].all() else None
 
 
 def face_locator(frame: FaceFrame):
@@ -202,9 +223,10 @@ def _edges(triangles: Array) -> Array:
 
 def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = (),
                       pose_names: Sequence[str] = (), skin: Array | None = None,
-                      up: str | None = None) -> FaceFrame:
+                      up: str | None = None, front: str | None = None) -> FaceFrame:
     """The face's frame from the neutral positions (W, 3), welded triangles, the key poses'
-    positions and names, the skin flags (not-face vertices excluded) and an optional up axis."""
+    positions and names, the skin flags (not-face vertices excluded) and optional up and
+    front axes (``--up``, ``--front``, or a VRM's own)."""
     rest = np.asarray(rest, np.float64)
     triangles = np.asarray(triangles)
     skin = np.ones(len(rest), bool) if skin is None else np.asarray(skin) > 0
@@ -229,10 +251,24 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
             ext = np.ptp(skin_points, axis=0)
             up_vec = np.array(AXES["+z"] if ext[2] > ext[1] * 1.001 else AXES["+y"], float)
             reason = "the longer of the Y and Z extents; give --up to choose"
+        if face.sum() >= 3:
+            across = _up_across_facing(rest, triangles, face, skin, up_vec)
+            if across is not None:
+                up_vec, reason = across
         notes.append(f"up {axis_name(up_vec)} ({reason})")
 
     # front
-    if face.sum() >= 3:
+    given_front = None if front is None else parse_axis(front)
+    if given_front is not None and abs(float(np.dot(given_front, up_vec))) > 1e-6:
+        if up is not None:
+            raise StudioError(f"the front {axis_name(given_front)} is not at right angles to "
+                              f"the up {axis_name(up_vec)}")
+        up_vec = np.array(AXES["+z"] if abs(given_front[1]) > 0.5 else AXES["+y"], float)
+        notes[-1] = f"up {axis_name(up_vec)} (at right angles to the front given)"
+    if given_front is not None:
+        front_vec, reason = given_front, "as given"
+        region = face if face.sum() >= 3 else _front_guess(rest, skin, up_vec)
+    elif face.sum() >= 3:
         region = face
         front_vec, reason = _front(rest, triangles, region, skin, up_vec)
     else:  # nothing shows where the face is: the convention that goes with the up axis
@@ -290,6 +326,45 @@ def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], sk
     best = int(np.argmax(votes))
     shown = ", ".join(used[:3]) + (" …" if len(used) > 3 else "")
     return axes[best], f"from the motion of {shown}"
+
+
+def _asymmetry(points: Array, axis: Array) -> float:
+    """How far the points are from mirror-symmetric across the plane at right angles to
+    ``axis`` through their middle: the mean distance from each mirrored point to the nearest
+    point (a sample of at most ``SYMMETRY_SAMPLE``)."""
+    if len(points) > SYMMETRY_SAMPLE:
+        points = points[np.linspace(0, len(points) - 1, SYMMETRY_SAMPLE).astype(int)]
+    along = points @ axis
+    mirrored = points - 2.0 * np.outer(along - np.median(along), axis)
+    gaps = np.linalg.norm(mirrored[:, None, :] - points[None, :, :], axis=2)
+    return float(gaps.min(axis=1).mean())
+
+
+def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, up: Array
+                      ) -> tuple[Array, str] | None:
+    """A better up when the one found is the way the face looks (a face's up is across its
+    facing): a blink that moves the lid toward the camera, a ponytail longer than the head is
+    tall. The face region's surface gives the facing (its area-weighted normals); of the two
+    axes across it, the skin is mirror-symmetric across one (its left–right axis; the skin, as
+    the region one pose moves may be one side of it): up is the other, positive. None when the
+    up found is across the facing already."""
+    tri = triangles[face[triangles].all(axis=1)]
+    if not len(tri):
+        return None
+    p = rest[tri]
+    facing = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]).sum(axis=0)
+    if np.linalg.norm(facing) == 0:
+        return None
+    facing, snapped = _snap(facing)
+    if not snapped or abs(float(np.dot(facing, up))) < 0.5:
+        return None
+    across = [np.array(a, np.float64) for a in ((1, 0, 0), (0, 1, 0), (0, 0, 1))
+              if abs(np.dot(a, facing)) < 1e-9]
+    points = rest[skin] if skin.any() else rest
+    left = min(across, key=lambda axis: _asymmetry(points, axis))
+    up_vec = next(a for a in across if a is not left)
+    return up_vec, (f"across the way the face looks ({axis_name(facing)}) and its left–right "
+                    "symmetry; give --up to choose")
 
 
 def _conventional_front(up: Array) -> tuple[Array, str]:
