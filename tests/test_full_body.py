@@ -35,7 +35,11 @@ UNITS = {"eyebrows-inner-up": ("browInnerUp",), "eyebrows-left-down": ("browDown
 # each expression judged as the units that make it, at full weight (a frown lowers both brows)
 JUDGED = {"brow raise": {"eyebrows-inner-up": 1.0},
           "frown": {"eyebrows-left-down": 1.0, "eyebrows-right-down": 1.0},
-          "smile": {"mouth-corner-puller": 1.0}}
+          "smile": {"mouth-corner-puller": 1.0}, "squint": {"eye-left-slit": 1.0}}
+# below the issue's 1 %: the frown, 0.7-0.9 % as on the production test head set up from its
+# own OBJ files (0.8-0.9 %: its frown's synthesised glabellar lines, not the import); the
+# squint's crow's feet, ≥ 0.5 % (the issue's bar for a small avatar's)
+LEAST = {"frown": 0.006, "squint": 0.005}
 HELPERS = ("short02", "joint-head", "joint-l-eye", "joint-r-eye", "helper-tights")
 NOT_SKIN = ("HighPolyEyes", "teeth_base", "Eyelashes01")
 
@@ -244,7 +248,8 @@ def not_skin_pixels(project, size: int) -> np.ndarray:
 def judge_renders(project, units: dict[str, dict[str, float]], size: int = 800
                   ) -> dict[tuple[str, str], float]:
     """Each expression (its units' weights) in a default render: the share of the picture t1
-    and t2 change (≥ 1 % each), none of it on the eyes, teeth or lashes (edge pixels aside)."""
+    and t2 change (≥ 1 % each, or ``LEAST``), none of it on the eyes, teeth or lashes (edge
+    pixels aside)."""
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
 
@@ -264,10 +269,7 @@ def judge_renders(project, units: dict[str, dict[str, float]], size: int = 800
                 on_eyes[what, technique] = float(changed[eyes].mean())
     print({k: f"{v:.2%}" for k, v in shares.items()}, on_eyes)
     for (what, technique), share in shares.items():
-        # the frown's glabellar lines are synthesised at about 512 texels across a head that
-        # has a quarter of the body's UV square: 0.7-0.9 %, under the issue's 1 % (said in
-        # the report); brow raise and smile reach it
-        assert share >= (0.006 if what == "frown" else 0.01), (what, technique, shares)
+        assert share >= LEAST.get(what, 0.01), (what, technique, shares)
     assert max(on_eyes.values()) < 0.02, on_eyes
     return shares
 

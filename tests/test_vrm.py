@@ -39,7 +39,8 @@ GROUPS_0 = [("joy", "Joy", "smile"), ("angry", "Angry", "angled_eyebrows"),
 EXPRESSIONS_1 = [("preset", "happy", "smile"), ("preset", "angry", "angled_eyebrows"),
                  ("preset", "surprised", "brows_up"), ("preset", "blinkLeft", "blink_left"),
                  ("preset", "aa", "ah")]
-JUDGED_0 = {"brow raise": {"Surprised": 1.0}, "frown": {"angry": 1.0}, "smile": {"happy": 1.0}}
+JUDGED_0 = {"brow raise": {"Surprised": 1.0}, "frown": {"angry": 1.0}, "smile": {"happy": 1.0},
+            "squint": {"squint_left": 1.0}}
 BALLS = ((0.35, 0.92, -0.05), (-0.35, 0.92, -0.05))  # sample units: on the crown
 
 
