@@ -190,3 +190,27 @@ def test_vrm_0_faces_minus_z_and_1_0_faces_plus_z(imported, tmp_path) -> None:
 def test_brow_raise_frown_and_smile_show_from_the_front_and_not_on_the_eyes(imported
                                                                             ) -> None:
     judge_renders(imported[0], JUDGED_0)
+
+
+@pytest.mark.core
+@pytest.mark.parametrize("damage", [{"blendShapeMaster": {"blendShapeGroups": [5]}},
+                                    {"blendShapeMaster": {"blendShapeGroups": [
+                                        {"presetName": "joy", "binds": 7}]}}])
+def test_a_damaged_vrm_extension_is_one_line_naming_the_file(tmp_path, capsys, damage) -> None:
+    import json
+    import struct
+
+    path = build_vrm(tmp_path / "a.vrm")
+    data = path.read_bytes()
+    length = struct.unpack("<I", data[12:16])[0]
+    doc = json.loads(data[20:20 + length])
+    doc["extensions"]["VRM"] = damage
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    rest = data[20 + length:]
+    path.write_bytes(struct.pack("<4sII", b"glTF", 2, 20 + len(text) + len(rest))
+                     + struct.pack("<II", len(text), 0x4E4F534A) + text + rest)
+    code = main(["new", "--gltf", str(path), "-o", str(tmp_path / "a.wrinkle")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "a.vrm" in err and "the VRM extension is malformed" in err
