@@ -207,6 +207,7 @@ def auto_mask(mesh: FaceMesh, posed_welded: Array, size: int, threshold: float =
 # --- smooth per-vertex fields on a coarse mesh ---------------------------------------------------
 
 COARSE = 3.0  # UV edges this many blur radii long or more: triangles would show in a mask
+COARSE_TEXELS = 8.0  # … and at least this many texels
 KERNEL_EDGES = 1.0  # the kernel's reach on the surface, in the mesh's median edge lengths
 _PAIRS = 1 << 22  # texel-vertex pairs per step of the kernel sums (~100 MB)
 
@@ -224,12 +225,10 @@ def surface_image(mesh: FaceMesh, welded: Array, size: int, blur_px: float) -> A
     bleeds into the chart packed beside it.
     """
     values = np.asarray(welded, np.float32)
-    image, covered = rasterise_uv(mesh.uvs, mesh.triangles, values[mesh.weld], size)
     tri = mesh.triangles
-    uv = mesh.uvs[tri].astype(np.float64)
-    edge_px = np.median(np.linalg.norm(uv - np.roll(uv, 1, axis=1), axis=2)) * size
+    image, covered = rasterise_uv(mesh.uvs, tri, values[mesh.weld], size)
     active = np.flatnonzero(values > 0.0)
-    if edge_px < COARSE * max(blur_px, 1.0) or len(active) == 0:
+    if not coarse(mesh, size, blur_px) or len(active) == 0:
         return image
     rest = mesh.rest.astype(np.float64)
     welded_tris = mesh.welded_triangles
@@ -239,22 +238,52 @@ def surface_image(mesh: FaceMesh, welded: Array, size: int, blur_px: float) -> A
     texels = np.flatnonzero(covered)
     points = np.stack([rasterise_uv(mesh.uvs, tri, rest[mesh.weld][:, k].astype(np.float32),
                                     size)[0].ravel()[texels] for k in range(3)], axis=1)
+    # a texel weighs only the vertices of its own shell: an eyelid's value never reaches the
+    # eyeball beneath it (a shell's label is exact in its triangles: their corners share it)
+    shell = _shells(welded_tris, len(rest))
+    texel_shell = np.rint(rasterise_uv(mesh.uvs, tri, shell[mesh.weld].astype(np.float32),
+                                       size)[0].ravel()[texels]).astype(np.int64)
     # only texels near a vertex with a value can change, and only vertices near those count
     near_active = _within(points, rest[active], reach)
     candidates = np.flatnonzero(_within(rest, rest[active], 2.0 * reach))
     out = image.ravel().copy()
     todo = texels[near_active]
     pts = points[near_active]
+    own = texel_shell[near_active]
     step = _chunk(len(candidates))
     for start in range(0, len(todo), step):
         p = pts[start:start + step]
         d2 = ((p[:, None, :] - rest[candidates][None]) ** 2).sum(-1) / reach ** 2
         w = np.clip(1.0 - d2, 0.0, None) ** 3
+        w *= own[start:start + step, None] == shell[candidates][None]
         total = w.sum(axis=1)
         smooth = (w @ values[candidates].astype(np.float64)) / np.maximum(total, 1e-12)
         keep = total > 1e-6  # a texel no vertex reaches keeps its interpolated value
         out[todo[start:start + step][keep]] = smooth[keep]
     return out.reshape(size, size).astype(np.float32)
+
+
+def _shells(triangles: Array, n: int) -> Array:
+    """(n,) int: each vertex's connected shell, labelled by its smallest vertex index."""
+    label = np.arange(n)
+    edges = mesh_edges(triangles)
+    while True:
+        low = np.minimum(label[edges[:, 0]], label[edges[:, 1]])
+        before = label.copy()
+        np.minimum.at(label, edges[:, 0], low)
+        np.minimum.at(label, edges[:, 1], low)
+        label = label[label]  # jump to the label's own label: far fewer rounds
+        if np.array_equal(label, before):
+            return label
+
+
+def coarse(mesh: FaceMesh, size: int, blur_px: float) -> bool:
+    """Whether the mesh's UV triangles would show in a mask drawn at ``size`` and blurred by
+    ``blur_px``: their median edge is ``COARSE`` blur radii and ``COARSE_TEXELS`` texels long
+    or more (a 1,220-vertex face at 512 or more; the ICT head's 26,719 vertices never)."""
+    uv = mesh.uvs[mesh.triangles].astype(np.float64)
+    edge_px = float(np.median(np.linalg.norm(uv - np.roll(uv, 1, axis=1), axis=2))) * size
+    return edge_px >= max(COARSE * max(blur_px, 1.0), COARSE_TEXELS)
 
 
 def _within(points: Array, centres: Array, reach: float) -> Array:
