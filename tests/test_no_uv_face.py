@@ -15,9 +15,15 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core.mesh.meshio import load_mesh, load_pose, made_uvs, save_obj
+from studio.core.mesh.meshio import (
+    load_mesh,
+    load_pose,
+    made_uvs,
+    not_face_vertices,
+    save_obj,
+)
 from studio.core.project.reader import load_project
-from studio.core.wrinkles.mask_ops import auto_mask, uv_coverage
+from studio.core.wrinkles.mask_ops import auto_mask, rasterise_uv, uv_coverage
 from tests.production_head import POSES, build_head
 from tests.test_blender_round_trip import changed_shares
 
@@ -137,3 +143,22 @@ def test_auto_masks_on_the_low_resolution_face_do_not_follow_its_triangles(tmp_p
     mask = auto_mask(mesh, load_pose(files[pose], mesh).positions, 1024)
     assert mask.max() > 0.9
     assert curvature_on_edges(mask, mesh) < 1.15
+
+
+@pytest.mark.core
+def test_the_smoothed_auto_mask_leaves_the_eyes_under_the_lids_alone(tmp_path):
+    """The squint compresses the lower lid, a few millimetres from the eyeball: weighed on
+    the surface, the lid's value must not reach the eye's own texels (away from its chart's
+    border, where the mask's blur may)."""
+    files = {name: strip_uvs(path) for name, path in
+             build_head("m", vertices=1220).write_set(tmp_path, ("eyeSquint_L",)).items()}
+    mesh = load_mesh(files["neutral"])
+    eyes = not_face_vertices(mesh, NOT_FACE[:2])
+    _, on_eye = rasterise_uv(mesh.uvs, mesh.triangles[eyes[mesh.welded_triangles].all(axis=1)],
+                             np.zeros(mesh.n_vertices, np.float32), 1024)
+    for _ in range(8):
+        on_eye[1:-1, 1:-1] &= (on_eye[:-2, 1:-1] & on_eye[2:, 1:-1] & on_eye[1:-1, :-2]
+                               & on_eye[1:-1, 2:])
+    mask = auto_mask(mesh, load_pose(files["eyeSquint_L"], mesh).positions, 1024)
+    assert mask.max() > 0.9 and on_eye.any()
+    assert mask[on_eye].max() == 0.0
