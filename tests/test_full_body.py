@@ -277,3 +277,32 @@ def judge_renders(project, units: dict[str, dict[str, float]], size: int = 800
 def test_brow_raise_frown_and_smile_show_in_a_default_render_and_not_on_the_eyes(imported
                                                                                  ) -> None:
     judge_renders(imported[0], JUDGED)
+
+
+@pytest.mark.core
+def test_without_auto_it_is_a_suggestion_and_keep_or_not_face_override_it(tmp_path) -> None:
+    every = sum(len(g.rest) for g in build_body())
+    code, _ = import_body(tmp_path, "--keep", "body", "HighPolyEyes", "--not-face", "body",
+                          "HighPolyEyes")
+    assert code == 2  # the user's own choice, taken as given: no skin left
+    folder = tmp_path / "plain"
+    folder.mkdir()
+    groups = build_body()
+    mesh = write_obj(groups, folder / "body.obj")
+    out_file = folder / "p.wrinkle"
+    buffer = io.StringIO()
+    with redirect_stdout(buffer):
+        assert main(["new", "--mesh", str(mesh), "-o", str(out_file)]) == 0
+    said = buffer.getvalue()
+    # no poses: nothing shows which parts move; names still suggest
+    assert "suggested, applied with --auto: OBJ groups: 9" in said
+    assert "left out: joint-head (name)" in said and "short02" not in said.split("left out")[1]
+    assert "a whole body" not in said and "up +Y" in said  # no face box to measure it by
+    assert load_project(out_file).mesh.n_welded == every  # nothing applied
+    code, said = import_body(tmp_path, "--keep", "body", "HighPolyEyes", "short02")
+    assert code == 0
+    line = next(x for x in said.splitlines() if x.startswith("OBJ groups"))
+    assert "left out" not in line and "not face: HighPolyEyes (name)" in line
+    kept = load_project(tmp_path / "body.wrinkle")
+    assert kept.mesh.n_welded == sum(len(g.rest) for g in groups
+                                     if g.name in ("body", "HighPolyEyes", "short02"))

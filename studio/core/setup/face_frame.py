@@ -99,10 +99,11 @@ def beyond_the_head(frame: FaceFrame, rest: Array, skin: Array) -> Array | None:
     """(W,) bool: in a whole body, the skin beyond the head (shoulders, torso, limbs) — to be
     marked not face, so that what is measured as "the skin" (its size, its most forward point,
     the share a pose compresses) is the head's, not a body's ten times larger. None for a head
-    (the skin is under ``BODY_HEIGHTS`` face boxes tall along up) or when nothing lies beyond.
+    (the skin is under ``BODY_HEIGHTS`` face boxes tall along up), when nothing lies beyond,
+    or when no key pose showed where the face is (the box is a guess then).
     ``skin``: (W,) weights, 0 for parts already not face."""
     skin = np.asarray(skin) > 0
-    if not skin.any():
+    if not skin.any() or not frame.posed:
         return None
     local = frame.to_face(rest)
     if np.ptp(local[skin, 1]) < 2.0 * BODY_HEIGHTS:  # the face box spans 2 in face y
@@ -149,6 +150,7 @@ class FaceFrame:
     how: str
     mirror_axis: int = 0  # the model axis (0, 1, 2) that runs from the face's right to its left
     mirror_plane: float = 0.0  # … and where along it the left–right symmetry plane lies
+    posed: bool = False  # the box is the skin the key poses deform (not a guess)
 
     def basis(self) -> Array:
         """3×3 whose columns are left, up, front: face coordinates → model directions."""
@@ -295,7 +297,8 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     mirror_axis = int(np.argmax(np.abs(left_vec)))
     mirror_plane = float(np.mean(skin_points[:, mirror_axis]))
     return FaceFrame(floats(left_vec), floats(up_vec), floats(front_vec), floats(centre),
-                     floats(half), "; ".join(notes), mirror_axis, mirror_plane)
+                     floats(half), "; ".join(notes), mirror_axis, mirror_plane,
+                     bool(face.sum() >= 3))
 
 
 def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], skin: Array,
