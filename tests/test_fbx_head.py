@@ -63,6 +63,17 @@ def test_a_file_that_is_not_fbx_is_one_line_naming_it(tmp_path):
     assert main(["new", "--mesh", str(bad), "-o", str(tmp_path / "x.wrinkle")]) == 2
 
 
+def test_a_file_over_the_budgets_is_refused_before_its_meshes_are_built(fbx_files,
+                                                                      monkeypatch):
+    monkeypatch.setenv("WRINKLE_STUDIO_MAX_FILE_BYTES", "1000")
+    with pytest.raises(MeshError, match=r"head\.fbx: the FBX file is [\d,]+ bytes, more than"):
+        load_fbx(fbx_files["plain"])
+    monkeypatch.delenv("WRINKLE_STUDIO_MAX_FILE_BYTES")
+    monkeypatch.setenv("WRINKLE_STUDIO_MAX_MESH_VERTICES", "20000")
+    with pytest.raises(MeshError, match=r"the FBX file's meshes is 26,727 vertices, more than"):
+        load_fbx(fbx_files["plain"])
+
+
 @pytest.mark.parametrize("kind", ["plain", "skeleton"])
 def test_new_auto_on_blender_s_fbx_shows_brow_raise_frown_and_smile(fbx_files, kind, tmp_path):
     out = io.StringIO()

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studio.core.files.budgets import FILE_BYTES
+from studio.core.files.budgets import FILE_BYTES, MESH_TRIANGLES, MESH_VERTICES
 from studio.core.files.errors import MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.unwrap import unwrap
@@ -57,9 +57,14 @@ def load_fbx(path: str | Path, keep: Collection[str] | None = None,
         raise MeshError("no such file", path)
     FILE_BYTES.check(path.stat().st_size, "the FBX file", path, MeshError)
     data = _read_in_child(path)
+    count = int(data["count"])
+    MESH_VERTICES.check(sum(len(data[f"m{i}_positions"]) for i in range(count)),
+                        "the FBX file's meshes", path, MeshError)
+    MESH_TRIANGLES.check(sum(len(data[f"m{i}_corners"]) for i in range(count)),
+                         "the FBX file's face corners", path, MeshError)
     unit = float(data["unit_meters"])
     to_studio = _axes_matrix(path, [int(a) for a in data["axes"]])
-    meshes = [_mesh_node(data, i, to_studio) for i in range(int(data["count"]))]
+    meshes = [_mesh_node(data, i, to_studio) for i in range(count)]
     if not meshes:
         raise MeshError("the file holds no mesh", path)
     choice = choose_face(meshes, keep, not_face, kind, str(path))
