@@ -186,7 +186,7 @@ def toggle_poses(project: Project) -> dict[str, tuple[str, Array]]:
     rest = mesh.rest.astype(np.float64)
     skin = project.skin_weights() > 0
     size = float(np.linalg.norm(np.ptp(rest[skin] if skin.any() else rest, axis=0))) or 1.0
-    pieces = None
+    pieces = count = None
     out: dict[str, tuple[str, Array]] = {}
     for pose in project.poses:
         moved = skin & (np.linalg.norm(pose.positions - rest, axis=1) > MOVED_SHARE * size)
@@ -195,10 +195,10 @@ def toggle_poses(project: Project) -> dict[str, tuple[str, Array]]:
         if any(w in TOGGLE_WORDS for w in name_words(pose.name)):
             out[pose.name] = ("its name says so", moved)
             continue
-        if pieces is None:
+        if pieces is None:  # found once, for the first pose not named a toggle
             pieces = _pieces(mesh.welded_triangles, mesh.n_welded)
+            count = np.bincount(pieces[skin], minlength=mesh.n_welded)
         touched = np.unique(pieces[moved])
-        count = np.bincount(pieces[skin], minlength=mesh.n_welded)
         share = np.bincount(pieces[moved], minlength=mesh.n_welded)[touched] / count[touched]
         if (share >= WHOLE_SHARE).all() and count[touched].sum() < skin.sum():
             out[pose.name] = ("it moves whole pieces only", moved)
