@@ -1,8 +1,8 @@
 """FBX in: what Maya, MetaHuman, Character Creator and most rigs export, read by ufbx.
 
-Why ufbx (PyPI ``ufbx``, the binding of ufbx, a fuzzed single-file C reader that Blender's and
-Godot's importers are measured against): it has cp311 manylinux wheels and reads blend shape
-channels with their target shapes as sparse offsets, the file's axes and UnitScaleFactor. The
+Why ufbx (PyPI ``ufbx``, the binding of ufbx, the fuzzed single-file C reader Godot's FBX
+importer uses): it has cp311 manylinux wheels and reads blend shape channels with their target
+shapes as sparse offsets, the file's axes and UnitScaleFactor. The
 Assimp bindings were weighed: ``assimp-py`` ships wheels but exposes no anim meshes (no blend
 shapes); ``pyassimp`` and ``impasse`` load a system libassimp through ctypes/cffi, which no
 wheel brings. ufbx's binding is young (0.0.5): its blend channel wrappers crash the interpreter
