@@ -214,3 +214,12 @@ def test_a_damaged_vrm_extension_is_one_line_naming_the_file(tmp_path, capsys, d
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1, err
     assert "a.vrm" in err and "the VRM extension is malformed" in err
+
+
+@pytest.mark.core
+def test_a_vrm_renamed_glb_is_still_read_as_vrm(tmp_path, capsys) -> None:
+    """The issue renamed its .vrm to .glb to get it read: the extension is found in the JSON."""
+    path = build_vrm(tmp_path / "a.vrm").rename(tmp_path / "renamed.glb")
+    assert main(["new", "--gltf", str(path), "-o", str(tmp_path / "r.wrinkle")]) == 0
+    out = capsys.readouterr().out
+    assert "VRM 0.x: faces -Z, Y up; 5 expressions" in out and "front -Z (as given)" in out

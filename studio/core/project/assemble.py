@@ -193,8 +193,11 @@ def _vrm_expressions(project: Project, path: str | Path, report: list[str]) -> N
         return
     if not check_suffix(path):
         with open(path, "rb") as file:
-            if b'"VRM' not in file.read(VRM_SNIFF):
-                return
+            head = file.read(VRM_SNIFF)
+        if head[:4] == b"glTF" and len(head) >= 20:  # only the JSON chunk: not image bytes
+            head = head[20:20 + int.from_bytes(head[12:16], "little")]
+        if b'"VRM' not in head:
+            return
     doc = _Gltf(Path(path)).doc
     info = vrm_info(doc, path)
     if info is not None:
