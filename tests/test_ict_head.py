@@ -47,11 +47,13 @@ def test_the_compact_head_is_the_kit_as_the_studio_imports_it() -> None:
 @pytest.mark.core
 def test_masks_and_furrows_lie_where_each_pose_compresses_with_the_eyes_kept(head) -> None:
     """The eye shells share the face's tile: before the fix the masks and the wrinkled map held
-    the neutral value exactly at the vertices each pose compresses most."""
-    check_where_compressed(head, POSES)
+    the neutral value exactly at the vertices each pose compresses most. A brow lowerer
+    compresses most above the brow, but its lines lie between the brows (issue 38:
+    tests/test_furrow_figures.py)."""
+    check_where_compressed(head, [pose for pose in POSES if pose != "browDown_L"])
 
 
-def check_default_renders(head) -> None:
+def check_default_renders(head, least: dict[str, float] | None = None) -> None:
     """800 × 800, the default camera, each pose at full weight: technique 1 and technique 2
     each change at least 1 % of the render (the issue measured 0.000 % with the eyes kept),
     and nothing more than 0.45 of the face's height from where the pose compresses (a brow
@@ -76,7 +78,8 @@ def check_default_renders(head) -> None:
             for technique in ("t1", "t2"):
                 image = studio.render(RenderSettings(technique=technique), {pose: 1.0})
                 changed = np.abs(image.astype(int) - plain).max(-1) > 4
-                assert changed.mean() >= 0.01, (pose, technique, changed.mean())
+                assert changed.mean() >= (least or {}).get(pose, 0.01), (pose, technique,
+                                                                      changed.mean())
                 assert not changed[far].any(), (pose, technique, "changed far away")
 
 
@@ -89,8 +92,10 @@ def test_the_issue_s_five_pose_new_auto_shows_each_pose_s_wrinkles_near_it_only(
     """The issue's `new --auto` with five poses: each pose's furrows on a map of their own
     or shared with one or two others. The squint compresses a small blob under the eye
     (1.3 % of the skin): it reached 0.5 % here while its smoothed compression stayed under
-    the depth's full_at and its mask was a linear ramp."""
-    check_default_renders(head)
+    the depth's full_at and its mask was a linear ramp. The brow lowerer's lines lie between
+    the brows only (issue 38), on the side it lowers: 0.5 / 0.6 % of the render (t1 / t2)
+    here, where the sample's, revealed on both sides of the glabella, keep 1 %."""
+    check_default_renders(head, {"browDown_L": 0.004})
 
 
 def test_the_sample_is_the_head_set_up_with_a_timeline_of_expressions() -> None:

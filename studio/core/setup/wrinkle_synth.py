@@ -39,6 +39,9 @@ from studio.core.files.images import to_unit_float
 from studio.core.files.naming import unique_name
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.model import Project
+from studio.core.setup import anatomy
+from studio.core.setup.anatomy import FacePlaces
+from studio.core.setup.face_frame import face_frame
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.normalmap import height_to_normal
 from studio.core.wrinkles.skin_strain import (
@@ -70,6 +73,11 @@ FURROW_THRESHOLD = 0.08  # furrows where a pose's strength is at least this, fad
 MAX_PHASE_GAIN = 4.0  # at most this much steeper than the potential of a region's wave field
 CROSSING_ANGLE = 30.0  # degrees: furrows of two poses this far apart do not share a map
 CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's furrows
+REVEAL_SHARE = 0.1  # a pose reveals its map where it compresses this share of its strongest
+PLACED_GAIN = 2.0  # a frown's glabellar lines, the deepest an artist paints, this much deeper
+PLACED_SHARPNESS = 1.0  # … and as wide as their spacing: a few close lines, no flat between
+BARE_SOFTNESS = 0.006  # of the map's size: the soft edge where furrows give way to bare skin
+MOVED_SHARE = 0.2  # … and where it moves the skin by this share of its largest motion
 
 
 @dataclass
@@ -149,6 +157,12 @@ class FurrowField:
     amount: Array  # (n,) furrow strength in (0, 1]
     angle: Array  # (n,) the wave vector's orientation, degrees in [0, 180)
     phase: Array  # (n,) radians: a furrow's bottom wherever it is a multiple of 2π
+    # flat texel indices the pose reveals with no furrow of its own: skin it compresses or
+    # moves where its furrows faded (or, for a frown, outside the glabella). A map shared with
+    # a pose whose furrows lie there would show them in this pose's expression.
+    bare: Array | None = None
+    gain: float = 1.0  # depth relative to the map's: anatomy's signature lines run deeper …
+    sharpness: float = SHARPNESS  # … and wider, their walls spanning the whole spacing
 
     def depth(self) -> Array:
         """Each texel's furrow depth in [0, 1]: its amount eased out (a·(2 − a): furrows keep
@@ -159,7 +173,8 @@ class FurrowField:
         reach = np.float32(2.0 * np.pi * FURROWS_EACH_SIDE)
         falloff = np.exp(-(self.phase / reach) ** 2)
         eased = self.amount * (2.0 - self.amount)
-        return (eased * falloff * valley(self.phase)).astype(np.float32)
+        return (self.gain * eased * falloff * valley(self.phase, self.sharpness)
+                ).astype(np.float32)
 
 
 def pose_full_at(compression: Array, full_at: float) -> float:
@@ -175,9 +190,16 @@ def pose_full_at(compression: Array, full_at: float) -> float:
 
 
 def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
-                 full_at: float, smoothing: float, spacing: float) -> FurrowField:
+                 full_at: float, smoothing: float, spacing: float,
+                 placed: tuple[Array, Array] | None = None,
+                 moved: Array | None = None, keep: Array | None = None) -> FurrowField:
     """Rasterise and smooth one pose's compression and direction fields, lay furrows across
-    the direction (``furrow_phase``) and upsample to the map's size."""
+    the direction (``furrow_phase``) and upsample to the map's size. ``placed``: a window and
+    a phase at the work size that anatomy gives this pose's lines (a frown's, between the
+    brows): the furrows then lie where the window and the pose's compression meet, along
+    that phase. ``moved``: a work-size image of the pose's motion as a share of its largest:
+    its technique-2 vectors reveal the map from ``MOVED_SHARE`` on. ``keep``:
+    a work-size image in [0, 1], where on the face furrows may lie at all."""
     work = ids.shape[0]
     covered = ids >= 0
     tri = np.where(covered, ids, 0)
@@ -187,6 +209,8 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     sin2 = 2.0 * strain.wave[:, 0] * strain.wave[:, 1]
     radius = smoothing * work / size
     full_at = pose_full_at(compression, full_at)
+    compressed = compression[compression >= WRINKLING_COMPRESSION]
+    strong = float(np.percentile(compressed, 98)) if compressed.size else 1.0
 
     def layer(per_triangle: Array) -> Array:
         return np.where(covered, per_triangle[tri], 0.0).astype(np.float32)
@@ -199,17 +223,52 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     s = _smooth_signed(layer(np.clip(weight, 0.0, 1.0) * sin2), radius)
     coherence = np.clip(np.hypot(c, s) / np.maximum(total, 1e-6), 0.0, 1.0)
     strength = np.clip(amount / max(full_at, 1e-6), 0.0, 1.0) * coherence
-    angle = np.mod(0.5 * np.arctan2(s, c), np.pi)
-    phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
-    # furrows only inside the regions the phase was laid out on, fading in from their edge
-    fade = np.clip((strength - FURROW_THRESHOLD) / FURROW_THRESHOLD, 0.0, 1.0) * straight
-    strength = mask_ops.resample(strength * fade, size)
+    if keep is not None:
+        strength = strength * keep
+    lines = None  # where the pose's lines may lie: anywhere it compresses, unless placed
+    if placed is not None:
+        strength, phase, c, s = _placed_furrows(amount, placed[1])
+        lines = mask_ops.resample(placed[0], size).ravel() > 1e-3
+        strength = strength * placed[0]
+        if moved is not None:  # ending inside the technique-2 area, not cut by its triangles
+            strength = strength * np.clip(4.0 * (moved / MOVED_SHARE - 1.0), 0.0, 1.0)
+    else:
+        angle = np.mod(0.5 * np.arctan2(s, c), np.pi)
+        phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
+        # furrows only inside the regions the phase was laid out on, fading in from their edge
+        strength = strength * np.clip((strength - FURROW_THRESHOLD) / FURROW_THRESHOLD, 0.0,
+                                      1.0) * straight
+    strength = mask_ops.resample(strength, size)
     index = np.flatnonzero(strength > 1e-3)
     c_up = mask_ops.resample((c + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
     s_up = mask_ops.resample((s + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
     degrees = np.degrees(np.mod(0.5 * np.arctan2(s_up, c_up), np.pi))
+    # what the pose reveals: where it compresses the skin by a tenth of its strong compression
+    # (as its technique-1 mask), or where anatomy placed its lines
+    reveals = amount >= max(REVEAL_SHARE * strong, WRINKLING_COMPRESSION)
+    if moved is not None:
+        reveals = reveals | (moved >= MOVED_SHARE)
+    reveals = mask_ops.resample(reveals, size).ravel() >= 0.5
+    lines = strength.ravel() > 1e-3 if lines is None else lines
     return FurrowField(index, strength.ravel()[index], degrees.astype(np.float32),
-                       _resample_unbounded(phase, size).ravel()[index])
+                       _resample_unbounded(phase, size).ravel()[index],
+                       np.flatnonzero(reveals & ~lines),
+                       *((1.0, SHARPNESS) if placed is None else (PLACED_GAIN, PLACED_SHARPNESS)))
+
+
+def _placed_furrows(amount: Array, phase: Array) -> tuple[Array, Array, Array, Array]:
+    """Strength, phase and doubled-angle direction (cos 2θ, sin 2θ) of furrows whose place
+    and direction anatomy gives (``phase``): wherever the pose compresses the skin at all
+    (its smoothed compression from half ``WRINKLING_COMPRESSION``, full from twice it: these
+    are the pose's signature lines, as deep as an artist paints them however gently the rig
+    squeezes that spot), across the phase's gradient."""
+    strength = np.clip((amount - 0.25 * WRINKLING_COMPRESSION) / (0.75 * WRINKLING_COMPRESSION),
+                       0.0, 1.0).astype(np.float32)
+    gy, gx = np.gradient(phase.astype(np.float64))
+    norm = np.maximum(gx * gx + gy * gy, 1e-12)
+    c = ((gx * gx - gy * gy) / norm).astype(np.float32)
+    s = (2.0 * gx * gy / norm).astype(np.float32)
+    return strength, phase.astype(np.float32), c, s
 
 
 # --- 3. furrows: a phase whose gradient is the wave vector ---------------------------------------
@@ -351,23 +410,41 @@ def _straightness(angle: Array, wavenumber: float) -> Array:
     return np.where(norm > 0.01, straight, 0.0).astype(np.float32)  # no direction: no furrow
 
 
-def valley(phase: Array) -> Array:
+def valley(phase: Array, sharpness: float = SHARPNESS) -> Array:
     """1 at the bottom of a furrow (phase 0), falling to 0 between furrows; even in the phase,
     so a field and its conjugate (the same orientation turned by 180°) give the same furrows."""
-    return ((1.0 + np.cos(phase)) * 0.5) ** SHARPNESS
+    return ((1.0 + np.cos(phase)) * 0.5) ** sharpness
 
 
 def furrow_depths(fields: Sequence[FurrowField], size: int,
                   groups: Sequence[Sequence[int]] | None = None) -> Array | list[Array]:
     """(size, size) max over poses of amount × valley(phase). With ``groups`` (lists of field
-    indices), one such image per group."""
+    indices), one such image per group, where each pose's furrows give way, with a soft edge,
+    to the skin another pose of its group reveals bare (``FurrowField.bare``): past the
+    shader's four maps crossing poses share one, and a frown must not show a sneer's folds."""
     images = []
     for group in (groups if groups is not None else [range(len(fields))]):
         depth = np.zeros(size * size, np.float32)
-        for i in group:
-            np.maximum.at(depth, fields[i].index, fields[i].depth())
+        bare = [_bare_image(fields[i], size) for i in group] if groups is not None else []
+        for k, i in enumerate(group):
+            furrows = fields[i].depth()
+            others = [image for j, image in enumerate(bare) if j != k and image is not None]
+            if others:
+                revealed = np.clip(np.sum(others, axis=0), 0.0, 1.0).ravel()[fields[i].index]
+                furrows = furrows * (1.0 - revealed)
+            np.maximum.at(depth, fields[i].index, furrows)
         images.append(depth.reshape(size, size))
     return images if groups is not None else images[0]
+
+
+def _bare_image(field: FurrowField, size: int) -> Array | None:
+    """(size, size) in [0, 1]: the skin a pose reveals bare, its edge softened over a furrow
+    spacing or so (``BARE_SOFTNESS`` of the map) so that furrows giving way to it fade."""
+    if field.bare is None or field.bare.size == 0:
+        return None
+    image = np.zeros(size * size, np.float32)
+    image[field.bare] = 1.0
+    return mask_ops.blur(image.reshape(size, size), BARE_SOFTNESS * size)
 
 
 # --- 4. the map ----------------------------------------------------------------------------------
@@ -396,20 +473,41 @@ def over_base(detail: Array, base: Array) -> Array:
 
 def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOptions,
                   skin: Array | None = None, progress: Progress | None = None,
-                  total: int = 0) -> list[FurrowField] | None:
-    """Each pose's furrow field at the map's size; None if ``progress`` stopped."""
+                  total: int = 0, places: FacePlaces | None = None
+                  ) -> list[FurrowField] | None:
+    """Each pose's furrow field at the map's size; None if ``progress`` stopped. With
+    ``places`` (where each vertex is on the face), a pose that lowers a brow gets its lines
+    between the brows (``anatomy.glabella``)."""
     options.check()
     size = options.size
     work = min(size, work_size(mesh))
-    ids = UvRaster(mesh, work).triangle
+    raster = UvRaster(mesh, work)
+    ids = raster.triangle
     uv_strain = UvStrain(mesh)
     skin_tri = (np.ones(mesh.n_triangles, np.float32) if skin is None
                 else np.asarray(skin, np.float32)[mesh.welded_triangles].min(axis=1))
     smoothing = 1.5 * options.spacing if options.smoothing is None else options.smoothing
+    glabella_lines = keep = None
+    if places is not None:
+        x, y, z = (raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2))
+        glabella_lines = anatomy.glabella(x, y, z, places.midline)
+        glabella_lines = (np.where(ids >= 0, glabella_lines[0], 0.0), glabella_lines[1])
+        keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
     fields = []
     for i, target in enumerate(targets):
-        fields.append(furrow_field(uv_strain.of(target), ids, skin_tri, size, options.full_at,
-                                   smoothing, options.spacing))
+        strain = uv_strain.of(target)
+        placed = None
+        if glabella_lines is not None and places is not None:
+            per_vertex = np.bincount(mesh.welded_triangles.ravel(),
+                                     np.repeat(strain.compression * skin_tri, 3), mesh.n_welded)
+            if places.lowers_brow(mesh.rest, target, per_vertex):
+                placed = glabella_lines
+        motion = np.linalg.norm(np.asarray(target, np.float64) - mesh.rest, axis=1)
+        if skin is not None:
+            motion = motion * (np.asarray(skin) > 0)
+        moved = raster.image((motion / max(float(motion.max()), 1e-300))[mesh.weld])
+        fields.append(furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
+                                   options.spacing, placed, moved, keep))
         if progress is not None and not progress(i + 1, total or len(targets)):
             return None
     return fields
@@ -441,6 +539,7 @@ class _GroupFurrows:
     def __init__(self, size: int) -> None:
         self.angle = np.full(size * size, np.nan, np.float32)
         self.amount = np.zeros(size * size, np.float32)
+        self.bare = np.zeros(size * size, bool)  # revealed by one of its poses, no furrow
 
     def crosses(self, f: FurrowField, strong: float) -> int:
         """How many of the pose's strong texels meet strong furrows of this map more than
@@ -450,12 +549,15 @@ class _GroupFurrows:
         theirs = self.amount[index] > strong
         diff = np.abs(f.angle[mine][theirs] - self.angle[index[theirs]]) % 180.0
         diff = np.minimum(diff, 180.0 - diff)
-        return int((diff > CROSSING_ANGLE).sum())
+        shown = 0 if f.bare is None else int((self.amount[f.bare] > strong).sum())
+        return int((diff > CROSSING_ANGLE).sum()) + int(self.bare[index].sum()) + shown
 
     def add(self, f: FurrowField) -> None:
         stronger = f.amount > self.amount[f.index]
         self.angle[f.index[stronger]] = f.angle[stronger]
         self.amount[f.index[stronger]] = f.amount[stronger]
+        if f.bare is not None:
+            self.bare[f.bare] = True
 
 
 def crossing_groups(fields: Sequence[FurrowField], most: int, size: int,
@@ -561,7 +663,9 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
         options = face_options(project, _default_map_size(project))
     names = [p.name for p in project.poses] if poses is None else list(poses)
     targets = [project.pose(name).positions for name in names]
-    fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress)
+    fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress,
+                           places=FacePlaces.of(face_frame(project), project.mesh.rest,
+                                                project.skin_weights()))
     if fields is None:
         return None
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
