@@ -119,7 +119,7 @@ def test_long_playback_does_not_grow_memory(window, qtbot):
     player = panel.player
     player._clock = FrameClock(doc.project.timeline.fps)
     saver = window.autosaver
-    saver.timer.stop()  # autosaves at fixed points instead (below), so runs compare
+    saver.set_interval(0)  # autosaves at fixed points instead (below), so runs compare
     rendered = window.viewport.frames_rendered
     blocks: list[tuple[float, float, int]] = []  # (wall ms, CPU ms, frames drawn) per frame
 
@@ -195,7 +195,7 @@ def test_many_strokes_stay_within_the_undo_budget(window, qtbot):
     budget = window.undo_budget
     budget.budget = 16 * MB  # small, so that 1 000 strokes must overflow it
     saver = window.autosaver
-    saver.timer.stop()  # autosaves every 100 strokes instead, as in the playback test
+    saver.set_interval(0)  # autosaves every 100 strokes instead, as in the playback test
     rng = random.Random(1000)
     h, w = doc.project.influence.areas[0].mask.shape
     brush = Brush(radius=w / 16)

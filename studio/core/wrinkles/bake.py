@@ -36,6 +36,7 @@ import numpy as np
 from studio.core.files.errors import Cancelled, MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache, vertex_normals
+from studio.core.mesh.meshio import made_uvs
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME
 from studio.core.mesh.uv_tiles import UvTiles, into_layout
 from studio.core.wrinkles.mask_ops import rasterise_uv
@@ -79,7 +80,12 @@ Progress = Callable[[float], None]
 def sculpt_for(high: FaceMesh, tiles: UvTiles | None) -> FaceMesh:
     """The sculpt as the face is laid out: a face whose UDIM tiles were packed into one atlas
     (``Project.uv_tiles``) gets the sculpt's UDIM UVs packed into the same cells, so the two
-    layouts meet; a face on one tile takes the sculpt as it is."""
+    layouts meet; a face on one tile takes the sculpt as it is. A sculpt read without UVs (the
+    reader made it some) is refused: baking needs the sculpt on the face's own UVs, and
+    made-up ones would only be reported as a layout that differs."""
+    if made_uvs(high) is not None:
+        raise MeshError("the high-polygon mesh has no texture coordinates (UVs); baking needs "
+                        "it exported with the face's UVs", high.source or None)
     return high if tiles is None else into_layout(high, tiles.layout)
 
 
