@@ -103,12 +103,7 @@ class GlbDoc(Doc):
 
     def write_glb(self, path: Path) -> Path:
         self.doc["buffers"] = [{"byteLength": len(self.blob)}]
-        text = json.dumps(self.doc).encode()
-        text += b" " * (-len(text) % 4)
-        blob = bytes(self.blob) + b"\0" * (-len(self.blob) % 4)
-        path.write_bytes(struct.pack("<4sII", b"glTF", 2, 28 + len(text) + len(blob))
-                         + struct.pack("<II", len(text), 0x4E4F534A) + text
-                         + struct.pack("<II", len(blob), 0x004E4942) + blob)
+        path.write_bytes(glb_bytes(self.doc, bytes(self.blob)))
         return path
 
 
@@ -221,3 +216,13 @@ def build_avatar(path: Path, vertices: int = 2172) -> Path:
     d.doc["scenes"] = [{"nodes": [len(nodes) - 1]}]
     d.doc["scene"] = 0
     return d.write_glb(path)
+
+
+def glb_bytes(doc: dict, blob: bytes) -> bytes:
+    """A binary glTF: the header, the JSON chunk (space-padded) and the BIN chunk (zero-padded)."""
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    blob = blob + b"\0" * (-len(blob) % 4)
+    return (struct.pack("<4sII", b"glTF", 2, 28 + len(text) + len(blob))
+            + struct.pack("<II", len(text), 0x4E4F534A) + text
+            + struct.pack("<II", len(blob), 0x004E4942) + blob)

@@ -28,6 +28,7 @@ import pytest
 
 from studio.core.files.png import SIGNATURE
 from studio.core.project.reader import load_project
+from tests.gltf_avatar import glb_bytes
 
 ROOT = Path(__file__).resolve().parents[1]
 ADDRESS_SPACE_MB = 500  # the bound, as a hard limit: past it the child gets MemoryError
@@ -154,12 +155,7 @@ class Gltf:
                                              + base64.b64encode(bytes(self.blob)).decode())
             path.write_text(json.dumps(self.doc))
             return path
-        text = json.dumps(self.doc).encode()
-        text += b" " * (-len(text) % 4)
-        blob = bytes(self.blob) + b"\0" * (-len(self.blob) % 4)
-        path.write_bytes(struct.pack("<4sII", b"glTF", 2, 28 + len(text) + len(blob))
-                         + struct.pack("<II", len(text), 0x4E4F534A) + text
-                         + struct.pack("<II", len(blob), 0x004E4942) + blob)
+        path.write_bytes(glb_bytes(self.doc, bytes(self.blob)))
         return path
 
 
