@@ -89,6 +89,9 @@ DEFAULT_MINUTES = 3.0
 DEBOUNCE_MS = 2000  # a burst of edits is written once, this long after its last step
 MAX_DELAY_MS = 8000  # ... but never later than this after the first unsaved step
 HEARTBEAT_MS = 5000  # how often a live window touches its lock file
+# The most memory the last snapshot's copies may keep between autosaves (the ICT head: 141 MB):
+# a project past it is copied whole at each autosave, as before, rather than held twice.
+KEEP_BYTES = 512 << 20
 _sessions = itertools.count(1)
 _offering = False  # one offer at a time (a recovered second window must not ask again)
 
@@ -234,8 +237,10 @@ def snapshot_project(project: Project,
     snapshot = copy.deepcopy(project, memo)
     if kept is not None:
         kept.clear()
-        kept.update({id(a): (a, memo[id(a)]) for a in arrays
-                     if not _immutable(a) and id(a) in memo})  # type: ignore[misc]
+        copies = {id(a): (a, memo[id(a)]) for a in arrays
+                  if not _immutable(a) and id(a) in memo}
+        if sum(a.nbytes for a, _ in copies.values()) <= KEEP_BYTES:  # type: ignore[union-attr]
+            kept.update(copies)  # type: ignore[arg-type]
     return snapshot
 
 
