@@ -43,3 +43,19 @@ class ValueCommand(QUndoCommand):
             return False
         self.new = other.new
         return True
+
+
+def push_flags(stack, items: list, attr: str, values: tuple[bool, ...], text: str,
+               changed: Callable[[], None]) -> None:
+    """One flag (``attr``) of every item at once as one undo step — Solo, show all, mute all —
+    then ``changed()`` to tell the views; nothing is pushed when the flags are already so."""
+    def read() -> tuple[bool, ...]:
+        return tuple(getattr(item, attr) for item in items)
+
+    def apply(flags: tuple[bool, ...]) -> None:
+        for item, flag in zip(items, flags, strict=True):
+            setattr(item, attr, flag)
+        changed()
+
+    if read() != tuple(values):
+        stack.push(ValueCommand(text, read, apply, tuple(values)))

@@ -26,7 +26,7 @@ from studio.core.wrinkles.colours import distinct_colour
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.surface_mirror import SurfaceMirror
-from studio.widgets.commands import ValueCommand
+from studio.widgets.commands import push_flags
 from studio.widgets.document import Document
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp"}
@@ -320,19 +320,8 @@ def set_area_visible(doc: Document, index: int, visible: bool) -> None:
 
 def set_visible_all(doc: Document, visible: tuple[bool, ...], text: str) -> None:
     """Solo / show all: every area's visibility at once, as one step."""
-    areas = list(doc.project.influence.areas)
-
-    def read() -> tuple[bool, ...]:
-        return tuple(a.visible for a in areas)
-
-    def apply(values: tuple[bool, ...]) -> None:
-        for a, v in zip(areas, values, strict=True):
-            a.visible = v
-        doc.areasChanged.emit()
-        doc.activationsChanged.emit()
-
-    if read() != tuple(visible):
-        doc.undo_stack.push(ValueCommand(text, read, apply, tuple(visible)))
+    push_flags(doc.undo_stack, list(doc.project.influence.areas), "visible", visible, text,
+               lambda: (doc.areasChanged.emit(), doc.activationsChanged.emit()))
 
 
 def set_area_map(doc: Document, index: int, wrinkle_map: str) -> None:

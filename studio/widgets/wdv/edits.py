@@ -15,7 +15,7 @@ from PySide6.QtGui import QUndoCommand
 from studio.core.files.naming import unique_name
 from studio.core.wrinkles.colours import distinct_colour
 from studio.core.wrinkles.wdv import WdvArea, wrinkle_directions
-from studio.widgets.commands import ValueCommand
+from studio.widgets.commands import ValueCommand, push_flags
 from studio.widgets.document import Document
 
 _SELECTION_ID = 4101
@@ -255,18 +255,8 @@ def set_cone_angles(doc: Document, area: WdvArea, hits: np.ndarray | None, value
 
 def set_enabled_all(doc: Document, enabled: tuple[bool, ...], text: str) -> None:
     """Solo / mute: the enabled flag of every area at once."""
-    areas = list(doc.project.wdv.areas)
-
-    def read() -> tuple[bool, ...]:
-        return tuple(a.enabled for a in areas)
-
-    def apply(values: tuple[bool, ...]) -> None:
-        for a, v in zip(areas, values, strict=True):
-            a.enabled = v
-        doc.wdvChanged.emit()
-
-    if read() != tuple(enabled):
-        doc.undo_stack.push(ValueCommand(text, read, apply, tuple(enabled)))
+    push_flags(doc.undo_stack, list(doc.project.wdv.areas), "enabled", enabled, text,
+               doc.wdvChanged.emit)
 
 
 def create_directions(doc: Document, area: WdvArea) -> np.ndarray:
