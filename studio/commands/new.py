@@ -86,16 +86,9 @@ def _obj_choice(args: argparse.Namespace, found: list[str]
 
 def run(args: argparse.Namespace) -> int:
     from studio.core.files.safe_io import check_output
-    from studio.core.project.assemble import project_from_files
-    from studio.core.project.vrm import leave_out_toggles
     from studio.core.project.writer import save_project
-    from studio.core.setup.face_frame import (
-        beyond_the_head,
-        face_frame,
-        face_locator,
-        parse_axis,
-    )
-    from studio.core.wrinkles.normalmap import flip_green
+    from studio.core.setup.face_frame import parse_axis
+    from studio.core.setup.new_setup import new_project
 
     for axis in (args.up, args.front):
         if axis is not None:
@@ -106,31 +99,13 @@ def run(args: argparse.Namespace) -> int:
     names = [name for name, _ in args.pose]
     if len(set(names)) != len(names):
         raise StudioError("two --pose options have the same name")
-    found: list[str] = []  # what was chosen in a glTF scene or an OBJ's parts
+    found: list[str] = []  # what was chosen in an OBJ's parts, then in the files
     keep, not_face = _obj_choice(args, found)
-    project = project_from_files(args.mesh or args.gltf, dict(args.pose), args.diffuse,
-                                 args.normal, args.wrinkle_normal,
-                                 keep=keep, not_face=not_face, report=found)
-    if args.flip_green:
-        project.textures.normal_neutral = flip_green(project.textures.normal_neutral)
-        project.textures.normal_wrinkled = flip_green(project.textures.normal_wrinkled)
-    for key, axis in (("up", args.up), ("front", args.front)):
-        if axis is not None:  # the user's word over a VRM's
-            project.view[key] = axis
-    toggles = leave_out_toggles(project, found) if args.auto else set()
-    frame = face_frame(project)
-    body = beyond_the_head(frame, project.mesh.rest, project.skin_weights())
-    if body is not None:  # a whole body: its face is measured against the head, not the body
-        project.not_face = body if project.not_face is None else project.not_face | body
-        found.append(f"a whole body: {int(body.sum())} vertices beyond the head marked not face")
-        frame = face_frame(project)
-    done = []
-    if args.auto:
-        from studio.core.setup.auto_setup import auto_start
-
-        done = auto_start(project, locate=face_locator(frame),
-                          poses=[p.name for p in project.poses if p.name not in toggles]
-                          if toggles else None)
+    made = new_project(args.mesh or args.gltf, dict(args.pose), args.diffuse, args.normal,
+                       args.wrinkle_normal, flip=args.flip_green, keep=keep,
+                       not_face=not_face, up=args.up, front=args.front, auto=args.auto)
+    project, done = made.project, made.done or []
+    found += made.found
     out = Path(args.output)
     save_project(project, out)
     # names come from the user's files: each shown on the line it belongs to, escaped
@@ -138,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
           f"{shown_list((p.name for p in project.poses), limit=1000) or 'none'}")
     for line in found:
         print(shown(line, 4000))
-    print(f"assumed: {frame.how}")
+    print(f"assumed: {made.assumed}")
     if project.uv_tiles is not None:
         print(f"UV tiles {', '.join(map(str, project.uv_tiles.layout.tiles))} packed into one "
               f"atlas (skin on {', '.join(map(str, project.skin_tiles()))})")

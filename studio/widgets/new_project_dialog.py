@@ -5,7 +5,12 @@ keep them all or only the ticked ones (the key poses are cut the same way), and 
 that are not skin (eyes, teeth) so they never wrinkle — suggested by name, as small closed
 shells, and as parts the key poses move rigidly. A glTF's meshes and materials are listed
 the same way, with what was found already ticked: the meshes its morph targets move kept, its
-eyes and teeth not face.
+eyes and teeth not face. A VRM is a glTF; an FBX's face is found the same way, without a
+table (reading one takes a child process: too slow to do while the user types its path).
+
+Create hands every choice to ``studio.core.setup.new_setup.new_project``, the set-up the
+command line's ``new`` runs too, so a head comes out the same both ways; what it found and
+assumed is kept in ``report`` for the main window to show.
 """
 
 from __future__ import annotations
@@ -38,25 +43,24 @@ from PySide6.QtWidgets import (
 
 from studio.core.files.errors import StudioError
 from studio.core.mesh.meshio import ObjGroup, obj_groups
-from studio.core.project.assemble import (
-    project_from_files,
-    suggest_not_face,
-    suggest_obj_parts,
-)
+from studio.core.project.assemble import suggest_not_face, suggest_obj_parts
 from studio.core.project.gltf import gltf_parts
 from studio.core.project.model import Project
-from studio.core.setup.auto_setup import auto_start
-from studio.core.setup.face_frame import face_frame, face_locator
-from studio.core.wrinkles.normalmap import flip_green
+from studio.core.setup.new_setup import NewSetup, new_project
 from studio.widgets.app_settings import remember_folder, settings, start_folder
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.progress import progress_dialog
 
-MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
+MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.vrm *.fbx *.stl *.off);;All files (*)"
+# a key pose is a mesh of the neutral's topology; a glTF, VRM or FBX brings its own poses
+POSE_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
 # Kinds of OBJ part, in the order preferred when two have as many names.
 KIND_LABELS = {"mesh": "Meshes", "group": "Groups (g)", "material": "Materials",
                "object": "Objects (o)"}
-GLTF = (".glb", ".gltf")
+GLTF = (".glb", ".gltf", ".vrm")  # scenes whose meshes and materials the parts table lists
+# the face's axes offered for Up and Front: (label, parse_axis spelling; None: found)
+AXIS_CHOICES = (("automatic", None), ("+X", "x"), ("-X", "-x"), ("+Y", "y"), ("-Y", "-y"),
+                ("+Z", "z"), ("-Z", "-z"))
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga);;All files (*)"
 
 
@@ -101,8 +105,10 @@ class PartsBox(QGroupBox):
         # an OBJ's not-face suggestion for a kind of part: {name: why}; by name when unset
         self.suggest: Callable[[str], dict[str, str]] | None = None
         self.not_face_edited = False  # the user changed a not-face tick: suggestions keep off
+        self.chosen = False  # the user changed the table: their choice over a glTF's finding
         self.kind = QComboBox()
         self.kind.currentIndexChanged.connect(self._fill)
+        self.kind.activated.connect(self._choose)
         self.keep_all = QRadioButton("Keep all parts")
         self.keep_some = QRadioButton("Keep only the ticked parts")
         self.keep_all.setChecked(True)
@@ -110,6 +116,8 @@ class PartsBox(QGroupBox):
         choice.addButton(self.keep_all)
         choice.addButton(self.keep_some)
         self.keep_some.toggled.connect(self._enable_keep)
+        for button in (self.keep_all, self.keep_some):
+            button.clicked.connect(self._choose)
         self.table = QTableWidget(0, 4)
         self.table.setHorizontalHeaderLabels(["Part", "Faces", "Keep", "Not face"])
         self.table.verticalHeader().hide()
@@ -141,7 +149,7 @@ class PartsBox(QGroupBox):
         shown first, and likely non-skin parts start ticked as not face. ``found``: the names
         a glTF's face finding keeps and marks not face, ticked to start with."""
         self.groups, self.found = groups, found
-        self.not_face_edited = False
+        self.not_face_edited = self.chosen = False
         counts = {k: sum(g.kind == k for g in groups) for k in KIND_LABELS}
         kinds = [k for k in KIND_LABELS if counts[k] > 1]
         self.kind.blockSignals(True)
@@ -210,15 +218,29 @@ class PartsBox(QGroupBox):
         self.table.blockSignals(False)
 
     def _edited(self, item: QTableWidgetItem) -> None:
+        self.chosen = True
         if item.column() == self.NOT_FACE:
             self.not_face_edited = True
 
+    def _choose(self) -> None:
+        self.chosen = True
+
+    def follows_file(self) -> bool:
+        """A glTF's table as found and left alone: its finding applies whole, as on the command
+        line (the table shows one kind of part at a time, so its ticks alone could lose an
+        eye that is a material of the face's mesh)."""
+        return self.found is not None and not self.chosen
+
     def _enable_keep(self) -> None:
+        """Keep ticks enabled only under "Keep only the ticked parts"; quietly (a flag's
+        change emits ``itemChanged``, which is not the user choosing)."""
         flags = Qt.ItemFlag.ItemIsUserCheckable
         if self.keep_some.isChecked():
             flags |= Qt.ItemFlag.ItemIsEnabled
+        quiet = self.table.blockSignals(True)
         for row in range(self.table.rowCount()):
             self.table.item(row, self.KEEP).setFlags(flags)
+        self.table.blockSignals(quiet)
 
     def ticked(self, column: int) -> list[str]:
         return [self.table.item(r, self.NAME).text() for r in range(self.table.rowCount())
@@ -231,17 +253,18 @@ class PartsBox(QGroupBox):
                 Qt.CheckState.Checked if name in names else Qt.CheckState.Unchecked)
 
     def part_kind(self) -> str | None:
-        return None if self.isHidden() else self.kind.currentData()
+        return None if self.isHidden() or self.follows_file() else self.kind.currentData()
 
     def keep(self) -> list[str] | None:
         """The parts to keep, None for the whole file."""
-        if self.isHidden() or self.keep_all.isChecked():
+        if self.isHidden() or self.follows_file() or self.keep_all.isChecked():
             return None
         return self.ticked(self.KEEP)
 
     def not_face(self) -> list[str] | None:
-        """The ticked parts; None when no table is shown (a glTF then suggests its own)."""
-        return None if self.isHidden() else self.ticked(self.NOT_FACE)
+        """The ticked parts; None when no table is shown or a glTF's is left as found (the
+        file's suggestion applies then)."""
+        return None if self.isHidden() or self.follows_file() else self.ticked(self.NOT_FACE)
 
 
 class NewProjectDialog(QDialog):
@@ -250,7 +273,9 @@ class NewProjectDialog(QDialog):
         self.setWindowTitle("New project from files")
         self.resize(680, 620)
         self.project: Project | None = None
-        self.mesh = FileField("Neutral mesh", MESH_FILTER, "required: the face in its rest pose")
+        self.mesh = FileField("Neutral mesh", MESH_FILTER,
+                              "required: the face in its rest pose (a glTF, VRM or FBX brings "
+                              "its key poses)")
         self.parts = PartsBox()
         self.parts.hide()
         self.mesh.edit.textChanged.connect(self.list_parts)
@@ -266,7 +291,11 @@ class NewProjectDialog(QDialog):
                               "wrinkled map when none is given)")
         self.auto.setChecked(settings().value("new_project/auto", True, type=bool))
         self.auto.toggled.connect(lambda on: settings().setValue("new_project/auto", on))
-        self.report: list[str] = []  # what the auto set-up did, a line each
+        self.up = axis_choice("The head's up axis; automatic: found from the key poses' "
+                              "motion or the mesh's extent (a VRM's own)")
+        self.front = axis_choice("The way the face looks, at right angles to up; automatic: "
+                                 "found from the way the moving skin faces (a VRM's own)")
+        self.report: list[str] = []  # what was found, assumed and set up, a line each
         self.poses = QTableWidget(0, 2)
         self.poses.setHorizontalHeaderLabels(["Key pose", "Mesh file"])
         self.poses.horizontalHeader().setStretchLastSection(True)
@@ -279,6 +308,8 @@ class NewProjectDialog(QDialog):
         form.addRow("Diffuse", self.diffuse)
         form.addRow("Neutral normals", self.normal)
         form.addRow("Wrinkled normals", self.wrinkled)
+        form.addRow("Up", self.up)
+        form.addRow("Front", self.front)
         form.addRow(self.directx)
         form.addRow(self.auto)
         buttons = QHBoxLayout()
@@ -315,7 +346,7 @@ class NewProjectDialog(QDialog):
 
     def add_poses(self) -> None:
         names, _ = QFileDialog.getOpenFileNames(self, "Key-pose meshes",
-                                                start_folder(self.mesh.path()), MESH_FILTER)
+                                                start_folder(self.mesh.path()), POSE_FILTER)
         if names:
             remember_folder(names[0])
         for name in names:
@@ -341,33 +372,45 @@ class NewProjectDialog(QDialog):
         if self.mesh.path() is None:
             QMessageBox.warning(self, "New project", "Choose the neutral mesh first.")
             return
-        try:
-            project = project_from_files(self.mesh.path(), self.pose_files(),
-                                         self.diffuse.path(), self.normal.path(),
-                                         self.wrinkled.path(), keep=self.parts.keep(),
-                                         not_face=self.parts.not_face(),
-                                         part_kind=self.parts.part_kind())
-        except StudioError as exc:
-            QMessageBox.critical(self, "Cannot create the project", str(exc))
+        made = self._make()
+        if made is None:  # a bad file, said; or the set-up cancelled: the dialog stays
             return
-        if self.directx.isChecked():
-            textures = project.textures
-            textures.normal_neutral = flip_green(textures.normal_neutral)
-            textures.normal_wrinkled = flip_green(textures.normal_wrinkled)
-        if self.auto.isChecked() and project.poses:
-            progress, step = progress_dialog(self, "Auto set-up",
-                                             "Setting up wrinkles from the key poses…")
-            try:
-                frame = face_frame(project)
-                self.report = auto_start(project, locate=face_locator(frame), progress=step)
-            except StudioError as exc:
-                QMessageBox.critical(self, "Cannot set up from the poses", str(exc))
-                return
-            finally:
-                progress.close()
-            if self.report is None:  # cancelled: the dialog stays, nothing was made
-                self.report = []
-                return
-            self.report.insert(0, f"Assumed: {frame.how}.")
-        self.project = project
+        self.project = made.project
+        self.report = [*made.found, f"Assumed: {made.assumed}.", *(made.done or [])]
         self.accept()
+
+    def _make(self) -> NewSetup | None:
+        """The project, set up as ``wrinkle-studio new`` sets it up; None after telling the
+        user what is wrong with which file, or when they cancelled the auto set-up."""
+        auto = self.auto.isChecked()
+        progress, step = (progress_dialog(self, "Auto set-up",
+                                          "Setting up wrinkles from the key poses…")
+                          if auto else (None, None))
+        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+        made, error = None, None
+        try:
+            made = new_project(self.mesh.path(), self.pose_files(), self.diffuse.path(),
+                               self.normal.path(), self.wrinkled.path(),
+                               flip=self.directx.isChecked(), keep=self.parts.keep(),
+                               not_face=self.parts.not_face(),
+                               part_kind=self.parts.part_kind(), up=self.up.currentData(),
+                               front=self.front.currentData(), auto=auto, progress=step)
+        except StudioError as exc:
+            error = str(exc)
+        finally:
+            QApplication.restoreOverrideCursor()
+            if progress is not None:
+                progress.close()
+        if error is not None:
+            QMessageBox.critical(self, "Cannot create the project", error)
+            return None
+        return made if made is not None and made.done is not None else None
+
+
+def axis_choice(tip: str) -> QComboBox:
+    """Automatic, or one of the six axes (the data: ``parse_axis``'s spelling)."""
+    box = QComboBox()
+    for label, axis in AXIS_CHOICES:
+        box.addItem(label, axis)
+    box.setToolTip(tip)
+    return box
