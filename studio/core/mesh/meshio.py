@@ -12,7 +12,11 @@ part of a file is kept, its unused ``v`` are dropped: welded positions are then 
 file order.
 
 Other formats (PLY, glTF/GLB, OFF, ...) go through trimesh; their render vertices are the file's
-vertices and positions that coincide exactly are welded.
+vertices and positions that coincide exactly are welded. A file without UVs (STL and OFF never
+have any, PLY often not) is welded by position and unwrapped by xatlas (core/mesh/unwrap.py):
+its render vertices are then xatlas's, so what a key pose of the same file topology needs (the
+file's vertex count, its triangles, which welded position each file vertex is) is kept beside
+the mesh.
 
 Every problem a user can cause raises ``MeshError`` naming the file and, where it helps, the line,
 face or vertex (numbered from 1, as in the file) — never a bare traceback.
@@ -101,6 +105,20 @@ _OBJ_INFO: weakref.WeakKeyDictionary[FaceMesh, _ObjInfo] = weakref.WeakKeyDictio
 _MADE_UVS: weakref.WeakKeyDictionary[FaceMesh, str] = weakref.WeakKeyDictionary()
 
 
+@dataclass(frozen=True)
+class _FileTopology:
+    """A PLY/STL/OFF mesh unwrapped by the studio, as its file had it: a key pose exported from
+    the same scene has the file's vertices and triangles, not the render vertices xatlas made,
+    so it is checked against these and read through ``weld``."""
+
+    weld: Array  # (N_file,) the file's vertex -> welded position
+    triangles: Array  # (F, 3) the file's triangles over its own vertices
+
+
+# A mesh from a non-OBJ file without UVs -> its file's topology (see _FileTopology).
+_FILE_TOPOLOGY: weakref.WeakKeyDictionary[FaceMesh, _FileTopology] = weakref.WeakKeyDictionary()
+
+
 # --------------------------------------------------------------------------------------------
 # Public API
 # --------------------------------------------------------------------------------------------
@@ -146,7 +164,8 @@ def load_mesh(path: str | Path, keep: Collection[str] | None = None,
     if keep is not None:
         raise MeshError("only OBJ files have groups or materials to choose from", path)
     positions, faces, uvs = _load_with_trimesh(path, need_uvs=True)
-    assert uvs is not None
+    if uvs is None:  # none at all (STL, OFF, a bare PLY): made, and said (``made_uvs``)
+        return _unwrapped_file(path, positions, faces)
     return mesh_from_render_vertices(path, positions, faces, uvs)
 
 
@@ -159,7 +178,9 @@ def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyP
     cut to the same parts (by name, or by face number if it names none of them) and compared
     after the cut, so a pose exported without the eyes still fits a neutral mesh without them.
     Poses in other formats must have the same vertices and faces, and vertices welded in the
-    neutral mesh must coincide. The first mismatch is reported (face and vertex numbers from 1,
+    neutral mesh must coincide; when the studio made the neutral mesh's UVs, "the same" is the
+    neutral file's vertices and triangles (an STL repeats every corner), not the render
+    vertices xatlas made. The first mismatch is reported (face and vertex numbers from 1,
     as in the file) so a user can find it in their modelling tool.
     """
     path = Path(path)
@@ -173,21 +194,26 @@ def load_pose(path: str | Path, mesh: FaceMesh, name: str | None = None) -> KeyP
         _check_obj_pose(path, data, mesh, info)
         return KeyPose(name=name, positions=data.positions)
     positions, faces, _ = _load_with_trimesh(path, need_uvs=False)
-    if len(positions) != mesh.n_vertices:
+    topology = _FILE_TOPOLOGY.get(mesh) or _topology_by_faces(positions, faces, mesh)
+    if topology is not None:  # the file's own vertices, not xatlas's render vertices
+        weld, triangles = topology.weld, topology.triangles
+    else:
+        weld, triangles = mesh.weld, mesh.triangles
+    if len(positions) != len(weld):
         raise MeshError(
-            f"has {len(positions)} vertices, the neutral mesh has {mesh.n_vertices}", path
+            f"has {len(positions)} vertices, the neutral mesh has {len(weld)}", path
         )
-    _check_same_triangles(path, faces, mesh.triangles)
-    # Welded positions from each welded vertex's first render copy; the other copies must agree.
-    _, first = np.unique(mesh.weld, return_index=True)
+    _check_same_triangles(path, faces, triangles)
+    # Welded positions from each welded vertex's first file copy; the other copies must agree.
+    _, first = np.unique(weld, return_index=True)
     welded = mesh.rest.astype(np.float64)
-    welded[mesh.weld[first]] = positions[first]
-    apart = np.abs(welded[mesh.weld] - positions).max(axis=1)
+    welded[weld[first]] = positions[first]
+    apart = np.abs(welded[weld] - positions).max(axis=1)
     extent = max(float(np.ptp(positions, axis=0).max()), 1e-30)
     torn = apart > 1e-6 * extent
     if torn.any():
         i = int(np.argmax(torn))
-        j = int(np.argmax(mesh.weld == mesh.weld[i]))
+        j = int(np.argmax(weld == weld[i]))
         raise MeshError(
             f"vertices {j + 1} and {i + 1} are one point in the neutral mesh but apart in "
             "this pose",
@@ -567,7 +593,9 @@ def _mesh_from_obj(path: Path, data: _ObjData) -> FaceMesh:
 
 
 def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array | None]:
-    """Vertices, triangles and (if any) UVs of a mesh file trimesh can read."""
+    """Vertices, triangles and (if any) UVs of a mesh file trimesh can read. With
+    ``need_uvs``, UVs that are there but do not fit the vertices are refused; none at all is
+    None (the caller makes them)."""
     suffix = path.suffix.lower().lstrip(".")
     try:
         import trimesh
@@ -618,8 +646,9 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
             f"face {f + 1} refers to a vertex that does not exist (the mesh has {len(positions)})",
             path,
         )
-    if need_uvs:
-        if uvs is None or uvs.ndim != 2 or uvs.shape[0] != len(positions) or uvs.shape[1] < 2:
+    if need_uvs and uvs is not None:
+        if uvs.ndim != 2 or uvs.shape[0] != len(positions) or uvs.shape[1] < 2:
+            # UVs for only some vertices: a damaged layout, not a missing one to make
             raise MeshError("the mesh has no texture coordinates (UVs); export it with UVs", path)
         uvs = uvs[:, :2]
         if not np.isfinite(uvs).all():
@@ -656,19 +685,51 @@ def _check_counts(path: Path, vertices: int, faces: int) -> None:
     MESH_TRIANGLES.check(faces, "the mesh's face count", path, MeshError)
 
 
-def mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: Array) -> FaceMesh:
-    """Weld render vertices whose positions are identical, keeping first-occurrence order."""
+def _weld_by_position(positions: Array) -> tuple[Array, Array]:
+    """(rows, weld): the first row of each distinct position, in the order the file first
+    uses them, and each row's welded number (an index into ``rows``)."""
     _, first, inverse = np.unique(positions, axis=0, return_index=True, return_inverse=True)
     order = np.argsort(first)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
+    return first[order], rank[inverse.reshape(-1)]
+
+
+def mesh_from_render_vertices(path: Path, positions: Array, faces: Array, uvs: Array) -> FaceMesh:
+    """Weld render vertices whose positions are identical, keeping first-occurrence order."""
+    rows, weld = _weld_by_position(positions)
     return FaceMesh(
-        rest=positions[first[order]],
+        rest=positions[rows],
         triangles=faces,
         uvs=uvs,
-        weld=rank[inverse.reshape(-1)],
+        weld=weld,
         source=str(path),
     )
+
+
+def _topology_by_faces(positions: Array, faces: Array, mesh: FaceMesh) -> _FileTopology | None:
+    """The file topology of a neutral mesh whose side table is gone (reopened from a project):
+    a pose file of as many triangles, each corner landing on one welded vertex of the mesh's
+    triangle in the same place, is the neutral file's topology. None when it is not (the
+    render-vertex comparison then names the mismatch)."""
+    if len(positions) == mesh.n_vertices or faces.shape != mesh.triangles.shape:
+        return None
+    weld = np.full(len(positions), -1, np.int64)
+    weld[faces] = mesh.welded_triangles
+    if (weld < 0).any() or not np.array_equal(weld[faces], mesh.welded_triangles):
+        return None
+    return _FileTopology(weld, faces)
+
+
+def _unwrapped_file(path: Path, positions: Array, faces: Array) -> FaceMesh:
+    """A mesh file without UVs: its vertices welded by position (an STL repeats each corner
+    in every triangle, which xatlas would cut into as many charts as triangles), the welded
+    surface unwrapped, and the file's topology kept for its key poses (``_FILE_TOPOLOGY``)."""
+    rows, weld = _weld_by_position(positions)
+    made = unwrap(positions[rows], weld[faces], str(path))
+    _MADE_UVS[made.mesh] = made.report(path)
+    _FILE_TOPOLOGY[made.mesh] = _FileTopology(weld, faces)
+    return made.mesh
 
 
 # --------------------------------------------------------------------------------------------

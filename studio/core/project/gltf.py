@@ -4,7 +4,8 @@ engine can use.
 Import: the first triangle primitive with UVs; its morph targets become key poses (named from
 ``extras.targetNames``); the material's base-colour and normal textures become the diffuse and
 neutral normal maps; without the studio's extras, a weights animation becomes the timeline
-(core/gltf_animation.py). Export: render vertices with UVs, NORMAL and TANGENT in the project's
+(core/gltf_animation.py); a face without any UVs (no TEXCOORD_0) gets them from xatlas, said
+in the report. Export: render vertices with UVs, NORMAL and TANGENT in the project's
 tangent frame (so viewers read the normal maps as the studio does), one morph target per key pose
 (with its change of normal and tangent), the textures, every wrinkled map and mask also as a
 KHR_materials_variants material (masks unlit; viewers list them, the Khronos validator counts
@@ -40,11 +41,19 @@ from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
 from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
+from studio.core.mesh.unwrap import Unwrapped, unwrap
 from studio.core.mesh.uv_tiles import TileLayout, UvTiles
 from studio.core.project.gltf_animation import animation_spec, timeline_from_animation
 from studio.core.project.gltf_carry import STUDIO_UV, find_setup, studio_uvs, with_setup
 from studio.core.project.gltf_container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
-from studio.core.project.gltf_face import choose_face, merge_face, report_lines, scene_groups
+from studio.core.project.gltf_face import (
+    FaceChoice,
+    MergedFace,
+    choose_face,
+    merge_face,
+    report_lines,
+    scene_groups,
+)
 from studio.core.project.gltf_materials import (
     _rgb,
     atlas_textures,
@@ -150,10 +159,16 @@ def _carried_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
 
 def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str] | None,
                 kind: str | None, report: list[str] | None) -> Project:
-    """Another tool's file: the face found among its meshes, merged, its maps in an atlas."""
+    """Another tool's file: the face found among its meshes, merged, its maps in an atlas (or,
+    for a face without UVs, UVs made by xatlas and plain maps: see ``_made_uvs``)."""
     choice = choose_face(scene_meshes(g), keep, not_face, kind, str(g.path))
     merged = merge_face(choice, str(g.path))
-    mesh, tiles, textures = atlas_textures(g, choice, merged)
+    made = _made_uvs(g, choice, merged)
+    if made is None:
+        mesh, tiles, textures = atlas_textures(g, choice, merged)
+    else:
+        mesh, tiles = made.mesh, None
+        textures = FaceTextures(plain_diffuse(), flat_normal_map(), flat_normal_map())
     project = Project(g.path.stem, mesh, merged.poses, textures, not_face=merged.not_face,
                       uv_tiles=tiles)
     animated = next((choice.meshes[i] for i in choice.kept_meshes()
@@ -170,7 +185,41 @@ def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str
             project.timeline = timeline
     if report is not None:
         report += report_lines(choice, merged)
+        if made is not None:
+            report.append(made.report(g.path))
     return project
+
+
+def _made_uvs(g: _Gltf, choice: FaceChoice, merged: MergedFace) -> Unwrapped | None:
+    """The merged face unwrapped by xatlas when none of its primitives has UVs, else None.
+
+    The face is unwrapped once, merged (as an FBX's is): its morph targets are key poses over
+    the welded vertices (core/project/gltf_face.py), and xatlas keeps the welded vertices and
+    the triangles in their order, so the poses and the not-face flags still fit. A face of
+    which only some primitives have UVs is refused, naming those that have none: made UVs
+    beside given ones would put both in one unit square, and the given maps would no longer
+    line up with either."""
+    bare = [k for k, (i, j) in enumerate(choice.kept)
+            if not choice.meshes[i].primitives[j].has_uvs]
+    if not bare:
+        return None
+
+    def label(k: int) -> str:
+        i, j = choice.kept[k]
+        node, prim = choice.meshes[i], choice.meshes[i].primitives[j]
+        return (node.label if len(node.primitives) == 1 or not prim.material_name
+                else f"{node.label}/{prim.material_name}")
+
+    if len(bare) < len(choice.kept):
+        without = ", ".join(dict.fromkeys(label(k) for k in bare))
+        given = ", ".join(dict.fromkeys(label(k) for k in range(len(choice.kept))
+                                        if k not in bare))
+        raise MeshError(f"the face mixes meshes without texture coordinates (TEXCOORD_0): "
+                        f"{without}, and with them: {given}; export them all with UVs (or all "
+                        "without, for the studio to make them), or keep only some (--keep)",
+                        g.path)
+    mesh = merged.mesh
+    return unwrap(mesh.rest, mesh.welded_triangles, str(g.path))
 
 
 def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[str]

@@ -2,6 +2,10 @@
 node's ``matrix`` or translation, rotation and scale, applied parent to child), every mesh a node
 shows and every triangle primitive of it (lists, strips and fans), with its morph targets, its
 material and UVs (the TEXCOORD set its base-colour texture reads, through KHR_texture_transform).
+A primitive without UVs is read too (``has_uvs`` False, its UVs zero): a face that has none gets
+them made once it is merged (core/project/gltf.py), so a file exported without a UV map opens;
+one beside primitives that have UVs and that no morph target moves (an untextured prop) is left
+out, as it always was.
 
 A skinned mesh keeps its bind pose: glTF ignores the transform of a skinned mesh's node, and the
 joints are not applied (an avatar's bind pose is the pose its morph targets were made in).
@@ -35,6 +39,7 @@ class Primitive:
     triangles: Array  # (m, 3) int64 into positions
     uvs: Array  # (n, 2) float64, v up (the studio's convention), after any texture transform
     offsets: dict[int, Array]  # morph target index -> (n, 3) world offsets (POSITION only)
+    has_uvs: bool = True  # False: the file gives no TEXCOORD (``uvs`` are zeros, to be made)
 
 
 @dataclass
@@ -230,8 +235,9 @@ def _plan(g: _Gltf, placed: list[tuple[int | None, dict, Array]]) -> None:
 
 
 def scene_meshes(g: _Gltf) -> list[MeshNode]:
-    """Every placed mesh with its triangle primitives that have UVs (primitives of points or
-    lines, or without UVs, are left out); meshes left with none are left out."""
+    """Every placed mesh with its triangle primitives (primitives of points or lines are left
+    out, and those without UVs beside others that have them, unless a morph target moves
+    them: see ``_without_bare_props``); meshes left with none are left out."""
     out = []
     placed = placed_meshes(g)
     _plan(g, placed)
@@ -249,23 +255,37 @@ def scene_meshes(g: _Gltf) -> list[MeshNode]:
                 placed_mesh.primitives.append(_primitive(g, prim, matrix, names))
         if placed_mesh.primitives:
             out.append(placed_mesh)
+    out = _without_bare_props(out)
     if out:
         return out
     if not placed and _list(g, g.doc, "meshes"):
         raise MeshError("the scene shows no mesh (none of its nodes places one)", g.path)
-    if any(isinstance(p, dict) and isinstance(p.get("attributes"), dict)
-           and "POSITION" in p["attributes"] and p.get("mode", TRIANGLES) in (TRIANGLES, STRIP,
-                                                                              FAN)
-           for _, node, _ in placed for p in _list(g, _item(g, "meshes", node["mesh"]),
-                                                    "primitives")):
-        raise MeshError("the mesh has no texture coordinates (TEXCOORD_0)", g.path)
     raise MeshError("the file holds no triangle mesh", g.path)
 
 
+def _without_bare_props(meshes: list[MeshNode]) -> list[MeshNode]:
+    """Primitives without UVs left out where others have UVs and no morph target moves them.
+
+    Why: before UVs were made for a face without any, such primitives were never read, and in
+    an avatar or a scene beside a textured face they are untextured props (a collider, a
+    plain-coloured accessory): kept, a file without morph targets (which keeps every mesh)
+    would mix made and given UVs. One a morph target moves is part of the face's rig and stays,
+    for the face to be refused naming it when the rest has UVs."""
+    if not any(p.has_uvs for m in meshes for p in m.primitives):
+        return meshes
+    out = []
+    for mesh in meshes:
+        mesh.primitives = [p for p in mesh.primitives if p.has_uvs or any(
+            np.abs(o).max(initial=0.0) > 0.0 for o in p.offsets.values())]
+        if mesh.primitives:
+            out.append(mesh)
+    return out
+
+
 def _is_surface(prim: dict) -> bool:
+    """A primitive of triangles with positions: what a face can be made of, UVs or not."""
     attrs = prim.get("attributes", {})
-    return (prim.get("mode", TRIANGLES) in (TRIANGLES, STRIP, FAN) and "POSITION" in attrs
-            and "TEXCOORD_0" in attrs)
+    return prim.get("mode", TRIANGLES) in (TRIANGLES, STRIP, FAN) and "POSITION" in attrs
 
 
 def target_names(spec: dict) -> list[str]:
@@ -293,6 +313,9 @@ def _primitive(g: _Gltf, prim: dict, matrix: Array, target_names: list[str]) -> 
     positions = _placed(g, local, matrix, "the mesh's positions", True)
     material, info = _material(g, prim)
     uvs = _uvs(g, attrs, info, n)
+    has_uvs = uvs is not None
+    if uvs is None:
+        uvs = np.zeros((n, 2))
     triangles = _triangles(g, prim, n)
     offsets = {}
     for i, target in enumerate(prim.get("targets", [])):
@@ -305,7 +328,8 @@ def _primitive(g: _Gltf, prim: dict, matrix: Array, target_names: list[str]) -> 
                             f"{n}", g.path)
         offsets[i] = _placed(g, moved, matrix, f"morph target '{name}'", False)
     index = prim.get("material")
-    return Primitive(index, shown(material.get("name", "")), positions, triangles, uvs, offsets)
+    return Primitive(index, shown(material.get("name", "")), positions, triangles, uvs, offsets,
+                     has_uvs)
 
 
 def _placed(g: _Gltf, local: Array, matrix: Array, what: str, point: bool) -> Array:
@@ -341,12 +365,14 @@ def _material(g: _Gltf, prim: dict) -> tuple[dict, dict]:
     return material, info if isinstance(info, dict) else {}
 
 
-def _uvs(g: _Gltf, attrs: dict, info: dict, n: int) -> Array:
+def _uvs(g: _Gltf, attrs: dict, info: dict, n: int) -> Array | None:
     """The UVs the base-colour texture reads (its TEXCOORD set, through its
-    KHR_texture_transform), with v flipped to point up."""
+    KHR_texture_transform), with v flipped to point up; None when the primitive has none."""
     transform = (info.get("extensions") or {}).get("KHR_texture_transform") or {}
     texcoord = transform.get("texCoord", info.get("texCoord", 0))
     key = f"TEXCOORD_{texcoord}" if f"TEXCOORD_{texcoord}" in attrs else "TEXCOORD_0"
+    if key not in attrs:
+        return None
     uvs = g.attribute(attrs[key], key, ("VEC2",))[:, :2]
     if len(uvs) != n:
         raise MeshError(f"{key} has {len(uvs)} values, POSITION has {n}", g.path)
