@@ -101,13 +101,13 @@ def test_autosave_crash_then_recovery(qtbot, sample, dialogs, fast_autosave, tmp
 def test_clean_close_and_saving_remove_the_recovery_file(qtbot, sample, dialogs, fast_autosave,
                                                           tmp_path):
     w = _open(qtbot, sample)
-    w.doc.set_pose_weight("frown", 0.3)
+    w.doc.set_expression_factor(0.3)
     qtbot.waitUntil(lambda: w.autosaver.autosaves >= 1, timeout=10000)
     recovery = w.autosaver.project_file
     assert recovery.exists()
     assert w.save_to(tmp_path / "a.wrinkle")  # saved: nothing left to recover
     assert not recovery.exists()
-    w.doc.set_pose_weight("frown", 0.4)
+    w.doc.set_expression_factor(0.4)
     qtbot.waitUntil(recovery.exists, timeout=10000)
     _close(w)
     qtbot.waitUntil(lambda: not recovery.exists(), timeout=5000)
@@ -161,8 +161,8 @@ def test_autosave_writes_a_snapshot_off_the_gui_thread(qtbot, sample, dialogs, f
                                                         held_writer):
     w = _open(qtbot, sample)
     doc = w.doc
-    doc.set_pose_weight("frown", 0.6)
-    doc.project.wdv.expression_factor = 0.7
+    doc.set_pose_weight("frown", 0.6)  # view state, saved with the edit that follows
+    doc.set_expression_factor(0.7)
     masks = [a.mask.copy() for a in doc.project.influence.areas]  # what the snapshot holds
     directions = doc.project.wdv.areas[0].directions.copy()
     qtbot.waitUntil(held_writer.started.is_set, timeout=10000)
@@ -203,7 +203,7 @@ def test_autosave_writes_a_snapshot_off_the_gui_thread(qtbot, sample, dialogs, f
 def test_saving_during_an_autosave_leaves_no_recovery_file(qtbot, sample, dialogs, fast_autosave,
                                                            held_writer, tmp_path):
     w = _open(qtbot, sample)
-    w.doc.set_pose_weight("frown", 0.6)
+    w.doc.set_expression_factor(0.6)
     qtbot.waitUntil(held_writer.started.is_set, timeout=10000)
     assert w.save_to(tmp_path / "face.wrinkle")  # saved while the autosave still writes
     held_writer.release.set()
@@ -211,15 +211,14 @@ def test_saving_during_an_autosave_leaves_no_recovery_file(qtbot, sample, dialog
     recovery = w.autosaver.project_file
     assert not recovery.exists() and not recovery.with_suffix(".json").exists()
     assert w.autosaver.autosaves == 0
-    assert load_project(tmp_path / "face.wrinkle").view["pose_weights"]["frown"] == \
-        pytest.approx(0.6)
+    assert load_project(tmp_path / "face.wrinkle").wdv.expression_factor == pytest.approx(0.6)
     _close(w)
 
 
 def test_closing_during_an_autosave_leaves_no_recovery_file(qtbot, sample, dialogs,
                                                             fast_autosave, held_writer):
     w = _open(qtbot, sample)
-    w.doc.set_pose_weight("frown", 0.6)
+    w.doc.set_expression_factor(0.6)
     qtbot.waitUntil(held_writer.started.is_set, timeout=10000)
     recovery = w.autosaver.project_file
     threading.Timer(0.2, held_writer.release.set).start()  # the write ends during the close
@@ -363,7 +362,7 @@ def test_a_snapshot_copies_again_only_what_changed_since_the_last(qtbot, sample,
     w = _open(qtbot, sample)
     w.autosaver.set_interval(0)  # this test starts each autosave itself
     doc, saver = w.doc, w.autosaver
-    doc.set_pose_weight("frown", 0.3)
+    doc.set_expression_factor(0.3)
     assert saver.autosave()
     qtbot.waitUntil(lambda: saver.autosaves == 1, timeout=10000)
     first = dict(saver._copies.kept)

@@ -9,6 +9,7 @@ import sys
 import numpy as np
 import pytest
 from PySide6.QtCore import Qt
+from PySide6.QtWidgets import QPushButton
 
 from studio.core.project.reader import load_project
 from studio.core.wrinkles.wdv import WdvSetup
@@ -30,20 +31,24 @@ def test_window_starts_on_the_sample_face(window):
     assert window.docks["Poses"].isVisible() and window.docks["Shading"].isVisible()
 
 
-def test_surprise_slider_wrinkles_the_forehead_and_undo_restores_it(window, qtbot):
+def test_surprise_slider_wrinkles_the_forehead_and_back_to_neutral_restores_it(window, qtbot):
+    """A pose slider is a view of the face, like the playhead: it edits nothing (no undo step,
+    no unsaved change; issue #35), and Back to neutral gives the very same picture back."""
     bring_forward(window.pose_panel)  # the Poses tab, as a person would click it first
     before = viewport_image(window)
     marks = viewport_marks(window)
     drag_slider(qtbot, window.pose_panel.pose_rows["surprise"].slider, 1.0)
     assert window.doc.pose_weights["surprise"] == pytest.approx(1.0, abs=0.01)
-    assert window.doc.undo_stack.count() == 1  # one drag, one undo step
-    assert window.isWindowModified()
+    assert window.doc.undo_stack.count() == 0
+    assert not window.isWindowModified()
     after = viewport_image(window)
     assert region_difference(before, after, marks["forehead"]) > 2.0
-    qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    neutral = next(b for b in window.pose_panel.findChildren(QPushButton)
+                   if b.text() == "Back to neutral")
+    qtbot.mouseClick(neutral, Qt.MouseButton.LeftButton)
     assert window.doc.pose_weights["surprise"] == 0.0
     assert window.pose_panel.pose_rows["surprise"].slider.value() == 0
-    assert np.array_equal(viewport_image(window), before)
+    qtbot.waitUntil(lambda: np.array_equal(viewport_image(window), before), timeout=5000)
     assert not window.isWindowModified()
 
 
@@ -111,6 +116,7 @@ def test_a_corrupt_file_shows_an_error_and_keeps_the_project(window, tmp_path, d
     bad.write_bytes(b"PK\x03\x04 this is not really a zip")
     project = window.doc.project
     window.doc.set_pose_weight("surprise", 0.5)
+    window.doc.set_expression_factor(0.5)
     assert not window.open_path(bad)
     assert len(dialogs) == 1 and dialogs[0][0] == "critical" and "broken.wrinkle" in dialogs[0][1]
     assert window.doc.project is project

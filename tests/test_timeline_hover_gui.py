@@ -1,5 +1,6 @@
-"""Hover-to-act keys, as in Blender: Space and K act on the timeline and F on the viewport while
-the mouse is over them, whatever was clicked last; a focused text field keeps every key."""
+"""Hover-to-act keys, as in Blender: Space, K, the arrows, Home/End, Delete and Ctrl+C/V act on
+the timeline and F on the viewport while the mouse is over them, whatever was clicked last; a
+focused text field keeps every key."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QApplication
 
 from tests.gui_helpers import drag_slider
-from tests.test_timeline_gui import keys
+from tests.test_timeline_gui import click_track, keys
 
 
 @pytest.fixture
@@ -159,3 +160,49 @@ def test_a_focused_line_edit_keeps_space_and_k_while_the_mouse_is_over_the_timel
     assert field.text() == "brow k "
     assert not panel.player.playing
     assert window.doc.undo_stack.count() == 0
+
+
+def test_arrows_home_end_delete_and_copy_paste_act_on_the_timeline_under_the_mouse(
+        open_window, sample, qtbot):
+    """Blender's dope-sheet keys with the viewport focused and the mouse over the timeline.
+    Red once: with only Space and K in the timeline's hover table (timeline/tools.py before)
+    the arrows went to the focused viewport and the frame stayed put."""
+    from studio.core.animation.timeline import Timeline
+
+    sample.timeline = Timeline()
+    window = open_window(sample)
+    panel, doc = window.timeline_panel, window.doc
+    timeline = doc.project.timeline
+    click_track(qtbot, panel, "squeeze", 20, 0.8)  # a new key, selected
+    assert [keys(window, "squeeze")[i][:2] for _, i in panel.selection] == [(20, 0.8)]
+    qtbot.mouseClick(window.viewport, Qt.MouseButton.LeftButton,
+                     pos=QPoint(10, window.viewport.height() - 10))
+    assert QApplication.focusWidget() is window.viewport
+    hover(qtbot, panel.view.viewport())
+    type_key(qtbot, Qt.Key.Key_Home)
+    assert doc.frame == timeline.start
+    type_key(qtbot, Qt.Key.Key_Right)
+    type_key(qtbot, Qt.Key.Key_Right)
+    type_key(qtbot, Qt.Key.Key_Left)
+    assert doc.frame == timeline.start + 1
+    qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_Right, Qt.KeyboardModifier.ShiftModifier)
+    assert doc.frame == timeline.end
+    qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_C, Qt.KeyboardModifier.ControlModifier)
+    type_key(qtbot, Qt.Key.Key_Home)
+    for _ in range(40):  # held down: the arrow repeats
+        type_key(qtbot, Qt.Key.Key_Right)
+    assert doc.frame == timeline.start + 40
+    before = keys(window, "squeeze")
+    qtbot.keyClick(QApplication.focusWidget(), Qt.Key.Key_V, Qt.KeyboardModifier.ControlModifier)
+    pasted = sorted(set(keys(window, "squeeze")) - set(before))
+    assert [k[:2] for k in pasted] == [(timeline.start + 40, pytest.approx(0.8))]
+    type_key(qtbot, Qt.Key.Key_Delete)  # the pasted key is the selection now
+    assert keys(window, "squeeze") == before
+    assert QApplication.focusWidget() is window.viewport  # the focus never moved
+    # a focused drop-down keeps its own End (red once, with ``navigating`` answering False)
+    combo = window.shading_panel.technique
+    combo.setFocus()
+    hover(qtbot, panel.view.viewport())
+    frame = doc.frame
+    type_key(qtbot, Qt.Key.Key_End)
+    assert combo.currentIndex() == combo.count() - 1 and doc.frame == frame

@@ -258,3 +258,29 @@ def test_an_influence_area_is_renamed_in_place_like_a_vector_area(window, qtbot,
     assert doc.project.influence.areas[1].name == "brow, left"
     qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
     assert doc.project.influence.areas[1].name != "brow, left"
+
+
+def test_moving_a_pose_slider_shows_the_face_and_leaves_the_project_saved(window, qtbot,
+                                                                          tmp_path):
+    """Looking at an expression edits nothing (issue #35): a value typed into a pose's field
+    moves the face, adds no undo step and no '*' to the title, and is still saved with the
+    project like the camera. Seen red: with the weight an undo step, the project is modified."""
+    from studio.core.project.reader import load_project
+
+    doc = window.doc
+    bring_forward(window.pose_panel)
+    assert not doc.modified
+    steps = doc.undo_stack.count()
+    before = viewport_image(window)
+    spin = window.pose_panel.pose_rows["frown"].spin
+    qtbot.mouseClick(spin, Qt.MouseButton.LeftButton)
+    spin.selectAll()
+    qtbot.keyClicks(spin, "0.35")
+    qtbot.keyClick(spin, Qt.Key.Key_Return)
+    assert doc.pose_weights["frown"] == pytest.approx(0.35)
+    qtbot.waitUntil(lambda: not np.array_equal(viewport_image(window), before), timeout=5000)
+    assert not doc.modified and doc.undo_stack.count() == steps
+    assert not window.isWindowModified()  # no "*" in the title
+    assert window.save_to(tmp_path / "looked.wrinkle")
+    assert load_project(tmp_path / "looked.wrinkle").view["pose_weights"]["frown"] == \
+        pytest.approx(0.35)

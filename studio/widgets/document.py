@@ -135,15 +135,16 @@ class Document(QObject):
         self.undo_stack.push(ValueCommand(text, read, apply, value, merge_key))
 
     def set_pose_weight(self, name: str, weight: float, gesture: int | None = None) -> None:
-        def read() -> float:
-            return self.pose_weights.get(name, 0.0)
-
-        def apply(value: float) -> None:
-            self.pose_weights[name] = value
-            self.poseWeightsChanged.emit()
-
-        key = None if gesture is None else ("pose", name, gesture)
-        self._push(f"Pose {name}", read, apply, float(weight), key)
+        """Show the face at a pose weight: view state like the playhead and the camera (saved
+        with the project, but neither an undo step nor an unsaved change), because moving a
+        pose slider to look at an expression edits nothing; keying it on the timeline (K) is
+        the edit. ``gesture`` is kept for the callers' symmetry with the edits."""
+        del gesture
+        weight = float(weight)
+        if self.pose_weights.get(name, 0.0) == weight:
+            return
+        self.pose_weights[name] = weight
+        self.poseWeightsChanged.emit()
 
     def set_area_activation(self, index: int, value: float, gesture: int | None = None) -> None:
         area = self.project.influence.areas[index]

@@ -424,25 +424,34 @@ class TimelinePanel(QWidget):
     def _icon(self, name: str) -> QIcon:
         return self.style().standardIcon(getattr(QStyle.StandardPixmap, name))
 
+    def key_bindings(self) -> list[tuple[list[str], Callable[[], None], str]]:
+        """The timeline's keys (Blender's dope sheet): one table for the focus shortcuts and
+        the keys that act while the mouse is over the panel."""
+        return [
+            (["Space"], self.player.toggle, "Play / pause"),
+            (["Left"], lambda: self.step(-1), "Previous frame"),
+            (["Right"], lambda: self.step(1), "Next frame"),
+            (["Home", "Shift+Left"], self.jump_start, "Jump to start"),
+            (["End", "Shift+Right"], self.jump_end, "Jump to end"),
+            (["Delete", "Backspace", "X"], self.delete_selected, "Delete keys"),
+            (["Ctrl+C"], self.copy_selected, "Copy keys"),
+            (["Ctrl+V"], self.paste, "Paste keys at the playhead"),
+            (["K"], self.key_current_pose, "Key the pose weight at the playhead"),
+            (["Escape"], lambda: self._select(set()), "Deselect keys"),
+        ]
+
+    def hover_keys(self) -> dict[str, Callable[[], None]]:
+        """Every key of :meth:`key_bindings` by its sequence, for ``HoverKeys.add``."""
+        return {key: slot for keys, slot, _ in self.key_bindings() for key in keys}
+
     def _shortcuts(self) -> None:
         """Keys that work while the timeline (or a child of it) has the focus."""
-        def add(keys: list[str], slot: Callable[[], None], text: str) -> None:
+        for keys, slot, text in self.key_bindings():
             action = QAction(text, self)
             action.setShortcuts([QKeySequence(k) for k in keys])
             action.setShortcutContext(Qt.ShortcutContext.WidgetWithChildrenShortcut)
             action.triggered.connect(slot)
             self.addAction(action)
-
-        add(["Space"], self.player.toggle, "Play / pause")
-        add(["Left"], lambda: self.step(-1), "Previous frame")
-        add(["Right"], lambda: self.step(1), "Next frame")
-        add(["Home", "Shift+Left"], self.jump_start, "Jump to start")
-        add(["End", "Shift+Right"], self.jump_end, "Jump to end")
-        add(["Delete", "Backspace"], self.delete_selected, "Delete keys")
-        add(["Ctrl+C"], self.copy_selected, "Copy keys")
-        add(["Ctrl+V"], self.paste, "Paste keys at the playhead")
-        add(["K"], self.key_current_pose, "Key the pose weight at the playhead")
-        add(["Escape"], lambda: self._select(set()), "Deselect keys")
 
     # --- geometry of the rows ------------------------------------------------------------------
     @property

@@ -126,11 +126,9 @@ class PosePanel(QScrollArea):
             row.setVisible(wanted in name.lower())
 
     def _reset_pose(self) -> None:
-        macro = self.doc.undo_stack
-        macro.beginMacro("Back to neutral")
+        """Every pose back to 0: like the sliders, a view of the face and not an edit."""
         for name in self.pose_rows:
             self.doc.set_pose_weight(name, 0.0)
-        macro.endMacro()
 
     def _show_values(self) -> None:
         for name, row in self.pose_rows.items():

@@ -41,10 +41,10 @@ def install_timeline_tools(window) -> TimelinePanel:
     window._add_dock("Timeline", panel, Qt.DockWidgetArea.BottomDockWidgetArea)
     panel.setMinimumHeight(150)
     window.pose_panel.poseEdited.connect(panel.set_current_pose)  # K keys the slider just moved
-    # Blender's hover keys: Space and K over the timeline, F and Space over the viewport, with
-    # no click first
+    # Blender's hover keys: the timeline's own keys while the mouse is over it, F and Space
+    # over the viewport, with no click first
     hover = install_hover_keys(window)
-    hover.add(panel, {Qt.Key.Key_Space: panel.player.toggle, Qt.Key.Key_K: panel.key_current_pose})
+    hover.add(panel, panel.hover_keys())
     hover.add(window.viewport, {Qt.Key.Key_F: lambda: window.frame_face_front(),
                                 Qt.Key.Key_Space: panel.player.toggle})  # Blender plays there too
     return panel
