@@ -56,9 +56,22 @@ def cached_sample() -> Project:
             with contextlib.suppress(OSError):
                 path.unlink()
     project = sample_project()
+    _frame_face(project)
     keep = copy.deepcopy(project)  # the window may change its copy while this one is written
     threading.Thread(target=_keep, args=(keep, path), name="sample-cache", daemon=True).start()
     return project
+
+
+def _frame_face(project: Project) -> None:
+    """Keep the camera framing the face with the set-up: finding the face's axes takes about a
+    second, which later starts then spend on nothing (the window opens on this camera)."""
+    from studio.core.mesh.camera import OrbitCamera
+    from studio.core.setup.face_frame import aim
+
+    if "camera" not in project.view:
+        camera = OrbitCamera()
+        aim(camera, project, "face")
+        project.view["camera"] = camera.to_dict()
 
 
 def _keep(project: Project, path: Path) -> None:

@@ -372,6 +372,7 @@ class UvCanvas(QWidget):
         state.changed.connect(self._state_changed)
         state.activeChanged.connect(lambda _: self.refresh_masks())
         self._coverage: np.ndarray | None = None
+        self._stale = False
         self.rebuild()
 
     # --- building ------------------------------------------------------------------------------
@@ -423,8 +424,25 @@ class UvCanvas(QWidget):
         self.tile.setVisible(tiles is not None)
         self.tile.blockSignals(False)
 
+    def _defer(self) -> bool:
+        """Whether to leave the canvas to be built when it is next shown: hidden behind another
+        tab (as at start, where building its wireframe and overlay took a second of the first
+        frame's time) it draws nothing, so a change only marks it stale."""
+        if self.isVisible():
+            return False
+        self._stale = True
+        return True
+
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        if self._stale:
+            self.rebuild()
+
     def rebuild(self) -> None:
         self._coverage = None
+        if self._defer():
+            return
+        self._stale = False
         self._load_tiles()
         self._load_background()
         self._load_wire()
@@ -432,6 +450,8 @@ class UvCanvas(QWidget):
         self.view.fit()
 
     def _load_background(self) -> None:
+        if self._defer():
+            return
         key = self.backdrop.currentData()
         w, h = self.mask_size()
         if key == "none":
@@ -447,6 +467,8 @@ class UvCanvas(QWidget):
         """The UV layout's edges (render vertices, so seams show as chart borders): every edge
         of the skin, only the outline of what is not face (eyes, lashes, teeth), which often
         lies over the skin's tile and would bury its wireframe."""
+        if self._defer():
+            return
         project = self.doc.project
         mesh = project.mesh
         w, h = self.mask_size()
@@ -510,6 +532,8 @@ class UvCanvas(QWidget):
         return self._coverage
 
     def refresh_masks(self) -> None:
+        if self._defer():
+            return
         w, h = self.mask_size()
         if self.masks.buffer.shape[:2] != (h, w):
             self.masks.resize(w, h)
@@ -523,6 +547,8 @@ class UvCanvas(QWidget):
 
     def _region_changed(self, layer: int, x: int, y: int, w: int, h: int) -> None:
         """A dab: redraw just that rectangle."""
+        if self._defer():
+            return
         if self.masks.buffer.shape[:2] != self.mask_size()[::-1]:
             self.refresh_masks()
             return
@@ -531,7 +557,7 @@ class UvCanvas(QWidget):
             self.overlap_item.write(x, y, self._overlap_rgba(x, y, w, h))
 
     def _activations_changed(self) -> None:
-        if self.state.overlap:
+        if self.state.overlap and not self._defer():
             w, h = self.mask_size()
             self.overlap_item.write(0, 0, self._overlap_rgba(0, 0, w, h))
 
