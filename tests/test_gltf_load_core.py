@@ -219,9 +219,14 @@ def test_a_file_without_a_triangle_mesh_says_so(tmp_path: Path, meshes: list | N
 
 
 def test_a_mesh_without_uvs_says_so(tmp_path: Path) -> None:
+    """No TEXCOORD_0: UVs made by xatlas (issue #37), said in the report."""
     d, prim = face()
     del prim["attributes"]["TEXCOORD_0"]
-    refused(d.write(tmp_path / "bare.gltf"), "the mesh has no texture coordinates (TEXCOORD_0)")
+    path = d.write(tmp_path / "bare.gltf")
+    report: list[str] = []
+    project = load_gltf(path, report=report)
+    assert any(line.startswith(f"no UVs in {path}: made them with xatlas") for line in report)
+    assert (project.mesh.uvs >= 0).all() and (project.mesh.uvs <= 1).all()
 
 
 @pytest.mark.parametrize(

@@ -185,13 +185,18 @@ def test_gltf_with_fewer_texture_coordinates_than_vertices_is_refused(tmp_path: 
 # --------------------------------------------------------------------------------------------
 
 
-def test_formats_without_uvs_are_refused_as_meshes(tmp_path: Path):
-    """OFF and STL carry no UVs: the neutral mesh is refused with the exact advice."""
+def test_formats_without_uvs_get_uvs_made_and_say_so(tmp_path: Path):
+    """OFF and STL carry no UVs: the neutral mesh gets them from xatlas (issue #37), and the
+    line a user reads says so."""
+    from studio.core.mesh.meshio import made_uvs
+
     tri = [[[0, 0, 0], [1, 0, 0], [0, 1, 0]]]
     for path in (_off(tmp_path / "tri.off", tri[0], [[0, 1, 2]]),
                  _binary_stl(tmp_path / "tri.stl", tri),
                  _ascii_stl(tmp_path / "text.stl", tri)):
-        _raises(path, "the mesh has no texture coordinates (UVs); export it with UVs")
+        mesh = load_mesh(path)
+        assert made_uvs(mesh) == f"no UVs in {path}: made them with xatlas, 1 charts"
+        assert mesh.n_welded == 3 and (mesh.uvs >= 0).all() and (mesh.uvs <= 1).all()
 
 
 def test_unknown_format_lists_the_known_ones(tmp_path: Path):

@@ -376,7 +376,8 @@ class MainWindow(QMainWindow):
         if dialog.exec() and dialog.project is not None:
             self.doc.replace_project(dialog.project, None)
             if dialog.report:
-                QMessageBox.information(self, "Auto set-up", "\n".join(dialog.report))
+                QMessageBox.information(self, "New project: what was found and set up",
+                                        "\n".join(dialog.report))
 
     def save(self) -> bool:
         if self.doc.path is None:
