@@ -46,7 +46,9 @@ def test_the_canvas_shows_the_tiles_and_a_stroke_lands_in_the_skin_tile(
     canvas = window.mask_tools.canvas
     qtbot.waitUntil(lambda: canvas.view.isVisible())
 
-    # the tile chooser lists the three tiles, the skin one chosen and framed
+    # the tile chooser lists the three tiles (built once the canvas is on screen), the skin one
+    # chosen and framed
+    qtbot.waitUntil(lambda: canvas.tile.count() > 0)
     labels = [canvas.tile.itemText(i) for i in range(canvas.tile.count())]
     assert labels == ["All tiles", "1001 (skin)", "1002", "1003"]
     assert canvas.tile.currentData() == 1001

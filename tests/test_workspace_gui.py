@@ -215,13 +215,17 @@ def test_outline_edges_keep_only_the_border_of_a_piece():
     assert len(outline_edges(np.zeros((0, 3), int))) == 0
 
 
-def test_the_uv_canvas_draws_the_skin_wireframe_and_outlines_the_rest(opened, sample):
+def test_the_uv_canvas_draws_the_skin_wireframe_and_outlines_the_rest(opened, sample, qtbot):
+    """(The canvas is drawn once its tab is in front: behind another it waits.)"""
     mesh = sample.mesh
     not_face = np.zeros(mesh.n_welded, bool)
     not_face[mesh.welded_triangles[:40].ravel()] = True  # an "eye": the first 40 triangles
     sample.not_face = not_face
     window = opened(sample)
     canvas = window.mask_tools.canvas
+    assert not canvas.wire.lines  # behind the Poses tab at start: not built yet
+    click_tab(qtbot, window, "UV Paint")
+    qtbot.waitUntil(lambda: bool(canvas.wire.lines))
     skin = sample.skin_triangles()
     assert 0 < (~skin).sum() < len(skin)
     rest = mesh.triangles[~skin]

@@ -28,7 +28,10 @@ def quantise(masks: np.ndarray) -> np.ndarray:
     """Masks as the GPU stores them: 8 bits, rounded (already-quantised masks pass through)."""
     if masks.dtype == np.uint8:
         return masks
-    return np.round(np.clip(masks, 0.0, 1.0) * 255.0).astype(np.uint8)
+    scaled = np.multiply(masks, np.float32(255.0), dtype=np.float32)  # one temporary, in place
+    np.clip(scaled, 0.0, 255.0, out=scaled)  # after: the same rounding as clip-then-scale
+    np.rint(scaled, out=scaled)
+    return scaled.astype(np.uint8)
 
 
 def sparse_masks(masks: np.ndarray) -> SparseMasks:

@@ -10,7 +10,7 @@ middle-drag or Space+left-drag; F fits the layout. Left-drag paints, X toggles t
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QLineF, QPointF, QRectF, Qt, Signal
+from PySide6.QtCore import QLineF, QPointF, QRectF, Qt, QTimer, Signal
 from PySide6.QtGui import (
     QBrush,
     QColor,
@@ -435,7 +435,11 @@ class UvCanvas(QWidget):
 
     def showEvent(self, event) -> None:
         super().showEvent(event)
-        if self._stale:
+        if self._stale:  # after the event: a tab behind another is shown, then hidden, at start
+            QTimer.singleShot(0, self._build_if_shown)
+
+    def _build_if_shown(self) -> None:
+        if self._stale and self.isVisible():
             self.rebuild()
 
     def rebuild(self) -> None:
