@@ -202,3 +202,40 @@ def test_an_fbx_through_the_dialog_brings_its_shape_keys_as_on_the_command_line(
     assert made.not_face is None or np.array_equal(made.not_face, cli.not_face)
     said = "\n".join(dialog.report)
     assert "FBX scene:" in said and "FBX scene:" in printed
+
+
+def test_a_body_s_helpers_start_unticked_and_are_left_out_as_on_the_command_line(
+        qtbot, monkeypatch, tmp_path, dialogs) -> None:
+    """A full body with hair cards, joint markers and helpers as OBJ groups: the parts table
+    starts on "Keep only the ticked parts" with the helpers unticked (hover says why), and
+    Create leaves them out, as ``new --auto`` does. Red once: with the dialog suggesting only
+    not-face parts (the old ``suggest_obj_parts``), every helper stayed ticked and kept."""
+    from tests.test_full_body import HELPERS
+
+    groups = build_body()
+    mesh = write_obj(groups, tmp_path / "body.obj")
+    poses = {unit: write_obj(groups, tmp_path / f"{unit}.obj", unit) for unit in UNITS}
+    cli, _ = from_the_command_line(
+        ["--mesh", str(mesh), "--auto",
+         *(arg for name, path in poses.items() for arg in ("--pose", f"{name}={path}"))],
+        tmp_path / "cli.wrinkle")
+    dialog = open_dialog(qtbot)
+    set_auto(qtbot, dialog, True)
+    monkeypatch.setattr(QFileDialog, "getOpenFileNames",  # the person picks the unit files
+                        staticmethod(lambda *_a, **_k: ([str(p) for p in poses.values()], "")))
+    qtbot.mouseClick(button(dialog, "Add key poses…"), Qt.MouseButton.LeftButton)
+    type_path(qtbot, dialog, mesh)
+    parts = dialog.parts
+    assert not parts.isHidden() and parts.keep_some.isChecked()
+    kept = set(parts.ticked(parts.KEEP))
+    assert kept and not kept & set(HELPERS)
+    for row in range(parts.table.rowCount()):
+        name = parts.table.item(row, parts.NAME).text()
+        if name in HELPERS:
+            assert parts.table.item(row, parts.NAME).toolTip().startswith(
+                "Suggested to leave out:")
+    qtbot.keyClick(dialog.mesh.edit, Qt.Key.Key_Return)  # Create
+    assert dialogs == []
+    made = dialog.project
+    assert made is not None and made.mesh.n_welded == cli.mesh.n_welded
+    assert np.array_equal(made.not_face, cli.not_face)

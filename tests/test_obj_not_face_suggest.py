@@ -86,26 +86,30 @@ def test_the_dialog_ticks_what_it_finds_and_keeps_the_user_s_own_ticks(
     assert parts.ticked(parts.NOT_FACE) == ["mat_a"]
     assert "small closed shell" in table.item(_row(dialog, "mat_a"), parts.NOT_FACE).toolTip()
 
-    # Add key poses…: the pose moves the patch rigidly, and it is ticked too
+    # Add key poses…: the pose moves the patch rigidly, and it is ticked too; the shell, which
+    # no pose moves, is suggested to leave out (a helper), as ``new --auto`` chooses
     monkeypatch.setattr(QFileDialog, "getOpenFileNames", lambda *a, **k: ([str(pose)], ""))
     add = next(b for b in dialog.findChildren(QPushButton) if b.text() == "Add key poses…")
     qtbot.mouseClick(add, Qt.MouseButton.LeftButton)
-    assert sorted(parts.ticked(parts.NOT_FACE)) == ["mat_a", "mat_b"]
+    assert sorted(parts.ticked(parts.NOT_FACE)) == ["mat_b"]
     assert "moved rigidly" in table.item(_row(dialog, "mat_b"), parts.NOT_FACE).toolTip()
+    assert parts.keep_some.isChecked() and "mat_a" not in parts.ticked(parts.KEEP)
+    assert "no pose moves it" in table.item(_row(dialog, "mat_a"), parts.KEEP).toolTip()
+    qtbot.mouseClick(parts.keep_all, Qt.MouseButton.LeftButton)  # the user keeps every part
 
     # the user unticks the patch (click its cell, Space): more poses leave their choice alone
     item = table.item(_row(dialog, "mat_b"), parts.NOT_FACE)
     qtbot.mouseClick(table.viewport(), Qt.MouseButton.LeftButton,
                      pos=table.visualItemRect(item).center())
     qtbot.keyClick(table.viewport(), Qt.Key.Key_Space)
-    assert parts.ticked(parts.NOT_FACE) == ["mat_a"]
+    assert parts.ticked(parts.NOT_FACE) == []
     monkeypatch.setattr(QFileDialog, "getOpenFileNames",
                         lambda *a, **k: ([str(pose.with_name("again.obj"))], ""))
     pose.with_name("again.obj").write_bytes(pose.read_bytes())
     qtbot.mouseClick(add, Qt.MouseButton.LeftButton)
     assert dialog.poses.rowCount() == 2
-    assert parts.ticked(parts.NOT_FACE) == ["mat_a"]
+    assert parts.ticked(parts.NOT_FACE) == []
     remove = next(b for b in dialog.findChildren(QPushButton) if b.text() == "Remove")
     dialog.poses.setCurrentCell(1, 0)
     qtbot.mouseClick(remove, Qt.MouseButton.LeftButton)
-    assert dialog.poses.rowCount() == 1 and parts.ticked(parts.NOT_FACE) == ["mat_a"]
+    assert dialog.poses.rowCount() == 1 and parts.ticked(parts.NOT_FACE) == []

@@ -43,7 +43,7 @@ from PySide6.QtWidgets import (
 
 from studio.core.files.errors import StudioError
 from studio.core.mesh.meshio import ObjGroup, obj_groups
-from studio.core.project.assemble import suggest_not_face, suggest_obj_parts
+from studio.core.project.assemble import suggest_not_face, suggest_obj_choice
 from studio.core.project.gltf import gltf_parts
 from studio.core.project.model import Project
 from studio.core.setup.new_setup import NewSetup, new_project
@@ -102,8 +102,9 @@ class PartsBox(QGroupBox):
         super().__init__("Parts of the mesh")
         self.groups: list[ObjGroup] = []
         self.found: tuple[set[str], set[str]] | None = None  # a glTF's kept and not-face names
-        # an OBJ's not-face suggestion for a kind of part: {name: why}; by name when unset
-        self.suggest: Callable[[str], dict[str, str]] | None = None
+        # an OBJ's suggestion for a kind of part: ({left out: why}, {not face: why}); by name
+        # when unset
+        self.suggest: Callable[[str], tuple[dict[str, str], dict[str, str]]] | None = None
         self.not_face_edited = False  # the user changed a not-face tick: suggestions keep off
         self.chosen = False  # the user changed the table: their choice over a glTF's finding
         self.kind = QComboBox()
@@ -164,8 +165,10 @@ class PartsBox(QGroupBox):
 
     def _fill(self) -> None:
         shown = [g for g in self.groups if g.kind == self.kind.currentData()]
-        kept = self.found[0] if self.found else {g.name for g in shown}
-        suggested = self._suggested(shown)
+        left_out, suggested = self._suggestions(shown)
+        kept = self.found[0] if self.found else {g.name for g in shown} - set(left_out)
+        if self.found is None and not self.chosen:  # an OBJ: helpers start unticked
+            (self.keep_some if left_out else self.keep_all).setChecked(True)
         self.table.blockSignals(True)
         self.table.setRowCount(0)
         for row, group in enumerate(shown):
@@ -184,14 +187,20 @@ class PartsBox(QGroupBox):
                 why = f"Suggested as not face: {suggested[group.name]}"
                 self.table.item(row, self.NAME).setToolTip(why)
                 self.table.item(row, self.NOT_FACE).setToolTip(why)
+            elif group.name in left_out:
+                why = f"Suggested to leave out: {left_out[group.name]}"
+                self.table.item(row, self.NAME).setToolTip(why)
+                self.table.item(row, self.KEEP).setToolTip(why)
         self.table.blockSignals(False)
         self._enable_keep()
 
-    def _suggested(self, shown: list[ObjGroup]) -> dict[str, str]:
-        """{name: why} of the shown parts to tick as not face: a glTF's finding, else the
-        OBJ's suggestion for this kind (names, small closed shells, rigid motion), else names."""
+    def _suggestions(self, shown: list[ObjGroup]) -> tuple[dict[str, str], dict[str, str]]:
+        """({name: why} to leave out, {name: why} to tick as not face) of the shown parts: a
+        glTF's finding, else the OBJ's suggestion for this kind (what ``new --auto`` chooses:
+        helpers left out; eyes, teeth, lashes not face by name, shell and rigid motion), else
+        names."""
         if self.found:
-            return dict.fromkeys(self.found[1], "found with the face")
+            return {}, dict.fromkeys(self.found[1], "found with the face")
         if self.suggest is not None:
             QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)  # a real head: a second
             try:
@@ -200,14 +209,18 @@ class PartsBox(QGroupBox):
                 pass  # the file is reported at Create; names still help
             finally:
                 QApplication.restoreOverrideCursor()
-        return dict.fromkeys(suggest_not_face(g.name for g in shown), "name")
+        return {}, dict.fromkeys(suggest_not_face(g.name for g in shown), "name")
 
     def resuggest(self) -> None:
-        """The suggestion again (key poses were added or removed: rigid motion may show),
-        unless the user has ticked or unticked not-face parts themselves."""
+        """The suggestion again (key poses were added or removed: rigid motion, or parts no
+        pose moves, may show): the whole table while the user has changed nothing in it,
+        else the not-face ticks unless the user has ticked or unticked some themselves."""
         if self.not_face_edited or self.isHidden():
             return
-        suggested = self._suggested([])
+        if not self.chosen:
+            self._fill()
+            return
+        _, suggested = self._suggestions([])
         self.table.blockSignals(True)
         self.set_ticked(self.NOT_FACE, set(suggested))
         for row in range(self.table.rowCount()):
@@ -341,7 +354,7 @@ class NewProjectDialog(QDialog):
             except StudioError:
                 groups, found = [], None
         self.parts.suggest = (None if suffix != ".obj" or not groups else
-                              lambda kind: suggest_obj_parts(path, kind, self.pose_files()))
+                              lambda kind: suggest_obj_choice(path, kind, self.pose_files()))
         self.parts.set_groups(groups, found)
 
     def add_poses(self) -> None:

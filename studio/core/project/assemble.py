@@ -137,6 +137,19 @@ def choose_obj_parts(mesh: str | Path, poses: Mapping[str, str | Path] | None = 
                      {names[i]: why for i, why in not_face.items()})
 
 
+def suggest_obj_choice(mesh: str | Path, kind: str,
+                       poses: Mapping[str, str | Path] | None = None
+                       ) -> tuple[dict[str, str], dict[str, str]]:
+    """(parts to leave out, parts not face) of ``kind``, each with why: what ``new --auto``
+    chooses (``choose_obj_parts``: helpers, hair cards and joint markers left out) when it
+    splits the OBJ by that kind, else only the not-face suggestion for it. What File ▸ New
+    from Files ticks to start with, so the dialog and the command line agree."""
+    choice = choose_obj_parts(mesh, poses)
+    if choice is not None and choice.kind == kind:
+        return choice.left_out, choice.not_face
+    return {}, suggest_obj_parts(mesh, kind, poses)
+
+
 def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
                        diffuse: str | Path | None = None, normal: str | Path | None = None,
                        wrinkled: str | Path | None = None, name: str | None = None, *,
