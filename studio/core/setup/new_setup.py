@@ -64,10 +64,22 @@ def new_project(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
     frame = _mark_body(project, found)
     done: list[str] | None = []
     if auto:
-        done = auto_start(project, locate=face_locator(frame), progress=progress,
-                          poses=[p.name for p in project.poses if p.name not in toggles]
-                          if toggles else None)
+        carried = set_up_poses(project)
+        wanted = [p.name for p in project.poses if p.name not in toggles | carried]
+        if carried:  # a file the studio exported: its set-up is kept, not made twice
+            found.append(f"already set up in the file, kept: {', '.join(sorted(carried))}")
+        if wanted:
+            done = auto_start(project, locate=face_locator(frame), progress=progress,
+                              poses=wanted if toggles or carried else None)
     return NewSetup(project, found, frame.how, done)
+
+
+def set_up_poses(project: Project) -> set[str]:
+    """The key poses the project already drives wrinkles with (a file the studio exported,
+    read back: its areas and vector areas travel in it): an area linked to it, or a vector
+    area made from it."""
+    linked = {pose for pose, gains in project.influence.links.items() if gains}
+    return (linked | {area.pose for area in project.wdv.areas}) & set(project.pose_names)
 
 
 def _flip_normal_maps(project: Project) -> None:
