@@ -102,11 +102,6 @@ def web_look() -> WebLook:
     """The light, blend and tangent frame ``render`` draws with (its default view), for the
     web page."""
     from studio.core.project.view_settings import ViewSettings
-    from studio.core.project.web_export import WebLook
-    from studio.render.settings import render_settings
+    from studio.render.settings import web_look as look_of
 
-    settings = render_settings(ViewSettings())
-    return WebLook(light_dir=settings.light_dir, ambient=settings.ambient,
-                   specular=settings.specular, shininess=settings.shininess,
-                   background=settings.background, blend=settings.blend,
-                   tangent_frame=settings.tangent_frame)
+    return look_of(ViewSettings())

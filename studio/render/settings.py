@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
+from studio.core.project.web_export import WebLook
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
 from studio.core.wrinkles.strain import DEFAULT_FULL_AT
 from studio.core.wrinkles.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
@@ -71,3 +72,14 @@ def render_settings(view: ViewSettings, *, technique: str | None = None,
                           wireframe=view.wireframe, light_dir=view.light_dir(),
                           blend=view.blend, relief=relief or view.relief,
                           relief_depth=view.relief_depth, tangent_frame=view.tangent_frame)
+
+
+def web_look(view: ViewSettings) -> WebLook:
+    """The light, blend and tangent frame a view draws with, for the web page (core's page
+    writer cannot read the renderer's settings): the command line's default view, or the
+    studio's own when the page is exported from its window, so the page shows what was seen."""
+    settings = render_settings(view)
+    return WebLook(light_dir=settings.light_dir, ambient=settings.ambient,
+                   specular=settings.specular, shininess=settings.shininess,
+                   background=settings.background, blend=settings.blend,
+                   tangent_frame=settings.tangent_frame)

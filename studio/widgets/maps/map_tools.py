@@ -3,11 +3,13 @@ a height map, flip green) and File ▸ Export. Every map change is one undo step
 
 from __future__ import annotations
 
+import copy
 from pathlib import Path
 
 import numpy as np
+from PySide6.QtCore import Qt
 from PySide6.QtGui import QUndoCommand
-from PySide6.QtWidgets import QFileDialog, QInputDialog, QMenu
+from PySide6.QtWidgets import QApplication, QFileDialog, QInputDialog, QMenu
 
 from studio.core.files.errors import StudioError
 from studio.core.files.images import load_grey, load_rgb
@@ -232,6 +234,26 @@ class MapTools:
             self._export(lambda: save_gltf(self.doc.project, Path(name),
                                            self.doc.view.tangent_frame), name)
 
+    def export_web(self) -> None:
+        """File ▸ Export ▸ Web Page…: the face as the viewport shows it now (camera, light,
+        blend, tangent frame), with its timeline, in one self-contained index.html that any
+        browser opens without a network (core/project/web_export.py)."""
+        folder = QFileDialog.getExistingDirectory(
+            self.window, "Export a web page into a folder (index.html)",
+            str(Path(self.doc.path).parent if self.doc.path else Path.home()))
+        if not folder:
+            return
+        from studio.core.files.safe_io import check_output_folder
+        from studio.core.project.web_export import export_web
+        from studio.render.settings import web_look
+
+        def write() -> None:
+            check_output_folder(folder, what="web folder")
+            export_web(self.doc.project, folder, copy.deepcopy(self.doc.camera),
+                       web_look(self.doc.view))
+
+        self._export(write, str(Path(folder) / "index.html"))
+
     def export_folder(self) -> None:
         """The folder and engine layout in a dialog (widgets/engine_export_dialog.py)."""
         from studio.widgets.engine_export_dialog import open_engine_export
@@ -239,11 +261,14 @@ class MapTools:
         open_engine_export(self.window)
 
     def _export(self, write, target: str) -> None:
+        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)  # a real head: seconds
         try:
             write()
         except StudioError as exc:
+            QApplication.restoreOverrideCursor()
             self.window.show_error("Cannot export", exc)
             return
+        QApplication.restoreOverrideCursor()
         self.window.statusBar().showMessage(f"Exported to {target}", 5000)
 
 
@@ -261,6 +286,7 @@ def install_map_tools(window) -> MapTools:
     export = QMenu("E&xport", window)
     export.addAction("glTF (.glb)…", tools.export_gltf)
     export.addAction("Folder for a Game Engine…", tools.export_folder)
+    export.addAction("Web Page…", tools.export_web)
     window.menus["File"].insertMenu(window.quit_action, export)
     window.map_tools = tools
     return tools
