@@ -87,10 +87,9 @@ def test_new_auto_on_blender_s_fbx_shows_brow_raise_frown_and_smile(fbx_files, k
     for pose in JUDGED:
         shares = changed_shares(project, pose)
         print(kind, pose, shares)
-        # the frown: 0.8 % (t1) / 1.2 % (t2) with all 53 expressions set up, short of the
-        # issue's 1 % as the ICT head loaded directly with all 53 is (with the five
-        # poses it passes): the set-up's shortfall, not the FBX reading's
-        least = 0.005 if pose == "browDown_L" else 0.01
+        # the frown: 1.8 % (t1) / 2.0 % (t2) with all 53 expressions set up; 0.8 / 1.2 %
+        # before its mask and vectors held its glabellar lines whole
+        least = 0.015 if pose == "browDown_L" else 0.01
         assert shares["t1"] >= least and shares["t2"] >= least, (kind, pose, shares)
 
 

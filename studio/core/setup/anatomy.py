@@ -4,16 +4,20 @@ The furrows of ``wrinkle_synth`` follow each pose's own compression, which is wh
 work on any head. A rig's brow lowerer, though, squeezes the whole brow and the lower forehead
 sideways, and laying furrows across that compression fills the forehead with near-vertical
 lines up to the scalp — where a corrugator and procerus frown makes one to three vertical lines
-*between the brows* (and a line across the root of the nose where the rig squeezes it). So a
-pose that pulls the brow down keeps its compression as *where* and *how strong*, and takes
-*where exactly and which way* from the face: vertical lines beside the midline, as far out as
-the inner ends of the brows, from the root of the nose up into the lower forehead.
+*between the brows* and one or two across the root of the nose. So a pose that pulls the brow
+down keeps its compression as *where* and *how strong*, and takes *where exactly and which way*
+from the face: three vertical lines (one on the midline, one either side of it), no further out
+than the inner ends of the brows, from above the root of the nose up into the lower forehead,
+and one shallower line across the root of the nose where the squeezed skin reaches that low.
+Every line stays inside the skin the pose compresses (``wrinkle_synth.placed_region``).
 
 Places are in face coordinates (``FacePlaces``: x toward the character's left, y up, z to
 the front, from the tip of the nose, in the face box's half width), with anchors measured on
 the ICT-FaceKit head's 68 landmarks (inner brows 0.167 either side of the midline, 1.27 above
 the tip of the nose; the root of the nose 0.52 above it), so they are shares of the face's own
-size.
+size. Heights start from where the pose's squeezed skin begins on the head at hand
+(``FacePlaces.squeezed_band``): a head whose brows sit lower in its face box gets its lines
+lower.
 """
 
 from __future__ import annotations
@@ -26,16 +30,31 @@ Array = np.ndarray
 
 GLABELLA_SHARE = 0.05  # a pose with this share of its compression between the brows …
 DOWNWARD = 0.3  # … and lowers it when its compressed skin moves down by this share of its motion
+# between the brows, for telling a brow lowerer: up to this far out (inner brows' half gap), …
+DETECT_SIDE = (0.3, 1.7)
+DETECT_HEIGHT = (0.47, 1.44, 0.11)  # … from this high up to this high (face y), fading
 INNER_BROW = 0.167  # the inner ends of the brows, either side of the midline (face x)
-NOSE_ROOT = 0.47  # the root of the nose (face y): where glabellar lines begin …
-GLABELLA_TOP = 1.44  # … and how far up the lower forehead they reach (face y) …
-GLABELLA_FADE = 0.11  # … fading in and out over this much
+SQUEEZED_LOW = 0.1  # the bottom of a frown's squeezed skin: this share of its compression lies
+SQUEEZED_HIGH = 0.9  # lower (between the brows) — and the top: this share lies lower
+BOTTOM = 0.51  # the bottom measured on the ICT-FaceKit head's brow lowerers (face y) …
+BOTTOM_RANGE = (0.2, 0.8)  # … and the bottoms believed on other heads
+NOSE_BAND = 0.5  # squeezed skin this tall (face y) holds a line across the root of the nose …
+NOSE_LINE = 0.03  # … this far above its bottom (the ICT head's root of the nose: 0.54) …
+NOSE_LINE_SPACING = 0.08  # … a valley this wide (face y) …
+NOSE_LINE_HALF = 0.06  # … ending this far above and below its bottom …
+NOSE_LINE_FULL = 0.6  # … full this far either side of the midline (inner brows' half gap) …
+NOSE_LINE_END = 0.9  # … and gone from this far out …
+NOSE_LINE_GAIN = 0.4  # … shallower than the vertical lines, …
+NOSE_ROOT = 0.17  # … which begin this far above the bottom (without it: at the bottom) …
+GLABELLA_TOP = 1.4  # … and reach this far up the lower forehead (face y) …
+GLABELLA_FADE = 0.08  # … fading in and out over this much
 FACE_TOP = 0.95  # furrows end at the top of the face box (the skin the poses deform) …
 TOP_FADE = 0.1  # … fading out over this much below it (shares of its half height)
 FACING = -0.62  # glabellar lines lie on skin facing forward (face z): the face, not the scalp
-LINE_OFFSET = 0.0  # the first line on the midline, then every …
-LINE_SPACING = 0.35  # … this share of the inner brows' half gap
-EDGE = 0.7  # the soft edge of the glabella, a share of its half width
+LINE_OFFSET = 0.0  # one line on the midline, then every …
+LINE_SPACING = 0.55  # … this share of the inner brows' half gap: three lines between the brows
+SIDE_FULL = 0.9  # the lines at full depth this far out (shares of the inner brows' half gap) …
+SIDE_END = 1.2  # … and none past the inner ends of the brows
 
 
 @dataclass(frozen=True)
@@ -72,7 +91,12 @@ class FacePlaces:
         if total <= 0.0:
             return False
         x, y, z = self.xyz.T
-        window, _ = glabella(x, y, z, self.midline)
+        across = np.abs(x - self.midline) / INNER_BROW
+        low, high, fade = DETECT_HEIGHT
+        window = (_smoothstep(DETECT_SIDE[1], DETECT_SIDE[0], across)
+                  * _smoothstep(low - fade, low + fade, y)
+                  * _smoothstep(high + fade, high - fade, y)
+                  * _smoothstep(FACING - 0.08, FACING + 0.08, z))
         if float(weight @ window) / total < GLABELLA_SHARE:
             return False
         motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
@@ -80,6 +104,25 @@ class FacePlaces:
         down = -float(weight @ (motion @ up_axis)) / total
         size = float(weight @ np.linalg.norm(motion, axis=1)) / total
         return size > 0.0 and down > DOWNWARD * size
+
+    def squeezed_band(self, compression: Array) -> tuple[float, bool]:
+        """Where a frown's lines begin on this head: the bottom (face y) of the skin a brow
+        lowerer squeezes between the brows (``compression`` per vertex; ``SQUEEZED_LOW`` of it
+        lies lower), within ``BOTTOM_RANGE``, and whether that skin is ``NOSE_BAND`` tall —
+        room for a line across the root of the nose below the vertical lines. Heads differ in
+        proportions: the brows of one sit lower in its face box than another's."""
+        x, y, z = self.xyz.astype(np.float64).T
+        across = np.abs(x - self.midline) / INNER_BROW
+        weight = (np.asarray(compression, np.float64) * _smoothstep(SIDE_END, SIDE_FULL, across)
+                  * _smoothstep(FACING - 0.08, FACING + 0.08, z))
+        total = weight.sum()
+        if total <= 0.0:
+            return BOTTOM, True
+        order = np.argsort(y)
+        share = np.cumsum(weight[order]) / total
+        low, high = (float(y[order][min(int(np.searchsorted(share, q)), len(y) - 1)])
+                     for q in (SQUEEZED_LOW, SQUEEZED_HIGH))
+        return float(np.clip(low, *BOTTOM_RANGE)), high - low >= NOSE_BAND
 
     def _up(self, rest: Array) -> Array:
         """The model direction of face y, fitted from the vertices (y is linear in position)."""
@@ -104,16 +147,30 @@ def _smoothstep(edge0: float, edge1: float, x: Array) -> Array:
     return t * t * (3.0 - 2.0 * t)
 
 
-def glabella(x: Array, y: Array, z: Array, midline: float) -> tuple[Array, Array]:
-    """(window, phase) images for a frown's lines from images of face x, y and z: the window
-    is 1 between the inner brows, from the root of the nose into the lower forehead, on skin
-    that faces forward, with soft edges; the phase (radians, a line's bottom at each multiple
-    of 2π) makes vertical lines ``LINE_SPACING`` apart, the first ``LINE_OFFSET`` beside the
-    midline on either side."""
+def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTOM,
+             nose: bool = True) -> tuple[Array, Array]:
+    """(window, phase) images for a frown's lines from images of face x, y and z (or per-vertex
+    arrays of them), on a head whose squeezed skin begins at ``bottom`` (face y:
+    ``FacePlaces.squeezed_band``). The window is 1 between the inner brows, from ``bottom``
+    (or above the line across the root of the nose, with ``nose``) into the lower forehead, on
+    skin that faces forward, with soft edges; there the phase (radians, a line's bottom at
+    each multiple of 2π) makes vertical lines ``LINE_SPACING`` apart, the first
+    ``LINE_OFFSET`` beside the midline on either side: the corrugators' lines. With ``nose``,
+    below them the window holds one shallower horizontal line (at ``NOSE_LINE_GAIN``) across
+    the root of the nose, the procerus's, and the phase runs up and down there."""
     across = np.abs(x - midline) / INNER_BROW  # 1 at the inner ends of the brows
-    side = _smoothstep(1.0 + EDGE, 1.0 - EDGE, across)
-    height = (_smoothstep(NOSE_ROOT - GLABELLA_FADE, NOSE_ROOT + GLABELLA_FADE, y)
-              * _smoothstep(GLABELLA_TOP + GLABELLA_FADE, GLABELLA_TOP - GLABELLA_FADE, y)
-              * _smoothstep(FACING - 0.08, FACING + 0.08, z))
+    start = bottom + NOSE_ROOT if nose else bottom
+    facing = _smoothstep(FACING - 0.08, FACING + 0.08, z)
+    vertical = (_smoothstep(SIDE_END, SIDE_FULL, across)
+                * _smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
+                * _smoothstep(GLABELLA_TOP + GLABELLA_FADE, GLABELLA_TOP - GLABELLA_FADE, y))
     phase = 2.0 * np.pi * (across - LINE_OFFSET) / LINE_SPACING
-    return (side * height).astype(np.float32), phase.astype(np.float32)
+    if nose:
+        line = bottom + NOSE_LINE
+        off = np.abs(y - line)
+        across_root = (NOSE_LINE_GAIN * _smoothstep(NOSE_LINE_END, NOSE_LINE_FULL, across)
+                       * _smoothstep(NOSE_LINE_HALF, 0.5 * NOSE_LINE_SPACING, off))
+        phase = np.where(across_root > vertical, 2.0 * np.pi * (y - line) / NOSE_LINE_SPACING,
+                         phase)
+        vertical = np.maximum(vertical, across_root)
+    return (vertical * facing).astype(np.float32), phase.astype(np.float32)

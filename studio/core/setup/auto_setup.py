@@ -1,8 +1,9 @@
 """Starting points derived from the key poses, so an imported face shows wrinkles at once.
 
 ``--auto`` and Tools ▸ Auto Setup: for each key pose, a technique-2 area with wrinkle direction
-vectors on the vertices the pose moves (directions from its motion) and a technique-1 soft mask
-from its skin compression, linked to the pose. And what the automatic (strain) mode shows
+vectors on the vertices the pose moves (directions from its motion; cones narrowed where another
+pose's motion would show them on skin it does not wrinkle) and a technique-1 soft mask from its
+skin compression, linked to the pose. And what the automatic (strain) mode shows
 at some pose weights, turned into an editable mask or WDV area.
 
 Both go through the same two builders: :func:`mask_from_weights` (per-vertex weights → a soft UV
@@ -44,6 +45,11 @@ MASK_SOFTNESS = 4.0  # blur of an auto mask, pixels of its size (as the areas pa
 STILL_MOTION = 1e-4  # skin moved by less than this fraction of the face's size: not moved
 STRAIN_THRESHOLD = 0.25  # a strain → WDV area takes vertices with a wrinkle weight above this
 MAX_LINK_GAIN = 2.0  # the areas panel's largest link gain
+CROSS_SHOWN = 0.05  # another pose whose motion would show an area's wrinkles this much …
+CROSS_SQUEEZED = 0.1  # … at a vertex it compresses less than this (its compression weight) …
+CONE_SHRINK = 0.9  # … gets the vertex's cone narrowed to this share of its motion's angle …
+LEAST_CONE = 0.5  # … but no narrower than this (degrees)
+PLACED_CONE = 45.0  # degrees: the cone on the vertices of lines anatomy placed (see below)
 
 
 @dataclass
@@ -161,7 +167,9 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
                   poses: Iterable[str] | None = None, fraction: float = SUGGEST_FRACTION,
                   threshold: float = MASK_THRESHOLD, softness: float = MASK_SOFTNESS,
                   locate: Callable[[Array], str] | None = None,
-                  progress: Callable[[int, int], bool] | None = None) -> AutoSetupReport | None:
+                  progress: Callable[[int, int], bool] | None = None,
+                  placed: Mapping[str, tuple[Array, Array]] | None = None
+                  ) -> AutoSetupReport | None:
     """The areas and links an automatic setup would add, without changing the project.
 
     For each key pose (all, or ``poses``): a WDV area named after it on the vertices it moves by
@@ -169,9 +177,15 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     linked to it with gain 1. Poses that move or compress no skin are reported instead.
     Each pose's strain goes into the report; ``locate`` names the region of a neutral-face
     point, for the report to say where a pose compresses the skin. None if ``progress``
-    (called with poses done, poses in all) returned False.
+    (called with poses done, poses in all) returned False. ``placed``: for the poses whose
+    lines anatomy placed on a synthesised map (``wrinkle_synth.fill_placeholder``), {pose:
+    (the vertices of those lines, those where anatomy lets them lie)}: the pose's WDV area
+    and mask hold the lines' vertices besides what it moves and compresses most, and it
+    wrinkles nowhere outside anatomy's place. Each area's cones are narrowed where another of
+    these poses would show its wrinkles without wrinkling the skin there (``narrow_cones``).
     """
     names = [p.name for p in project.poses] if poses is None else list(poses)
+    placed = placed or {}
     shape = setup_mask_size(project, mask_size)
     rest = project.mesh.rest
     report = AutoSetupReport()
@@ -181,6 +195,8 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     strain = SkinStrain(project.mesh, skin)
     size = face_size(project)
     raster = UvRaster(project.skin_mesh(), min(max(shape), SETUP_WORK_SIZE))
+    motions: dict[str, Array] = {}  # what each pose does, for narrowing the areas' cones
+    squeezed: dict[str, Array] = {}
     for done, name in enumerate(names, start=1):
         if progress is not None and not progress(done, len(names)):
             return None
@@ -192,8 +208,17 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         colour = area_colour(len(report.wdv_areas) + len(report.flat_poses))
         area = None
         if motion > STILL_MOTION:
+            selected = suggest(rest, moved, fraction)
+            if name in placed:
+                selected = selected | np.asarray(placed[name][0], bool)
             area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
-                                           suggest(rest, moved, fraction), colour=colour)
+                                           selected, colour=colour)
+            motions[name] = (moved - rest).astype(np.float32)
+            if area is not None and name in placed:
+                # a brow lowerer and its mirror pull the skin between the brows apart and down
+                # (a frown, both at once, straight down): lines there show for either and both
+                area.cone_angles_deg = np.where(placed[name][0] & area.authored, PLACED_CONE,
+                                                0.0).astype(np.float32)
         if area is None:
             report.still_poses.append(name)
         else:
@@ -205,6 +230,10 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         if locate is not None and summary.centre is not None:
             report.regions[name] = locate(summary.centre)
         weights = compression_weights(strain, pose_strain.compression, threshold)
+        if name in placed:  # its mask holds anatomy's lines whole, and it wrinkles only there
+            lines, window = (np.asarray(v, bool) for v in placed[name])
+            weights = np.where(lines, 1.0, np.where(window, weights, 0.0)).astype(np.float32)
+        squeezed[name] = weights
         mask = mask_from_weights(project.mesh, weights, shape, softness, raster)
         if not mask.any():
             report.flat_poses.append(name)
@@ -213,7 +242,44 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         mask_taken.append(mask_area.name)
         report.influence_areas.append(mask_area)
         report.links.setdefault(name, {})[mask_area.name] = 1.0
+    narrow_cones(report.wdv_areas, motions, squeezed)
     return report
+
+
+def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
+                 squeezed: Mapping[str, Array]) -> None:
+    """Keep each pose's motion out of the other poses' wrinkle vectors where it does not
+    compress the skin: technique 2 shows an area's wrinkles wherever a motion falls inside its
+    cones, so a frown that pushes the outer eye corners the way a squint does would show the
+    squint's crow's feet there, and its scalp's pull the brow raise's forehead lines. Where
+    another pose (``motions``: {pose: (W, 3)}) would show an area's wrinkles by
+    ``CROSS_SHOWN`` at full weight and compresses the skin by less than ``CROSS_SQUEEZED``
+    (``squeezed``: its compression weights), the vertex's cone is narrowed below that motion's
+    angle (painted cones, ``WdvArea.cone_angles_deg``); the area's own pose, along its vectors,
+    shows as before."""
+    for area in areas:
+        index = np.flatnonzero(area.authored)
+        direction = area.directions[index].astype(np.float64)
+        length = area.lengths[index].astype(np.float64)
+        full = area.vertex_cones_deg()[index].astype(np.float64)
+        cone = full.copy()
+        for pose, motion in motions.items():
+            if pose == area.pose or pose not in squeezed:
+                continue
+            delta = motion[index].astype(np.float64)
+            size = np.linalg.norm(delta, axis=1)
+            cos = np.einsum("ij,ij->i", delta, direction) / np.maximum(size, 1e-300)
+            alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+            shown = size / np.maximum(length, 1e-300) * (1.0 - alpha / full)
+            crosses = ((size > 0.0) & (alpha < full) & (shown > CROSS_SHOWN)
+                       & (squeezed[pose][index] < CROSS_SQUEEZED))
+            cone = np.where(crosses, np.minimum(cone, np.maximum(CONE_SHRINK * alpha,
+                                                                 LEAST_CONE)), cone)
+        if (cone < full).any():
+            painted = (np.zeros(len(area.lengths), np.float32) if area.cone_angles_deg is None
+                       else area.cone_angles_deg.copy())
+            painted[index] = np.where(cone < full, cone, painted[index])
+            area.cone_angles_deg = painted
 
 
 def merged_links(current: Mapping[str, Mapping[str, float]],
@@ -257,19 +323,26 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
     wrinkled normal map (a flat placeholder), maps synthesised from its key poses — several
     where poses' furrows cross, each pose's areas revealing its own — so that the imported face
     shows wrinkles at once. Returns what was done, a line each; None, with the project
-    untouched, if ``progress`` (done, total: the set-up's steps then the synthesis's) returned
-    False. ``poses``: the key poses to set up (default all), e.g. a rig's wrinkling ones."""
+    untouched, if ``progress`` (done, total: the synthesis's steps then the set-up's) returned
+    False. ``poses``: the key poses to set up (default all), e.g. a rig's wrinkling ones. The
+    maps come first: where anatomy placed a pose's lines (a frown's), its mask and vectors
+    hold them whole."""
     steps = len(project.poses) if poses is None else len(poses)
-    report = suggest_setup(project, locate=locate, progress=progress, poses=poses)
-    if report is None:
-        return None
     textures = dict(project.textures.wrinkle_maps)
 
     def synth_progress(done: int, total: int) -> bool:
-        return progress is None or progress(steps + done, steps + total)
+        return progress is None or progress(done, steps + total)
 
-    made = fill_placeholder(project, progress=synth_progress, poses=poses)
-    if made is None:
+    def setup_progress(done: int, total: int) -> bool:  # after the synthesis's steps, if any
+        before = steps if made else 0
+        return progress is None or progress(before + done, before + total)
+
+    # the maps first: where anatomy placed a pose's lines, its WDV area must reach
+    placed: dict[str, tuple[Array, Array]] = {}
+    made = fill_placeholder(project, progress=synth_progress, poses=poses, placed=placed)
+    report = None if made is None else suggest_setup(
+        project, locate=locate, progress=setup_progress, poses=poses, placed=placed)
+    if made is None or report is None:
         project.textures.wrinkle_maps = textures
         return None
     apply_setup(project, report)

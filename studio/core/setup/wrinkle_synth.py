@@ -74,10 +74,13 @@ MAX_PHASE_GAIN = 4.0  # at most this much steeper than the potential of a region
 CROSSING_ANGLE = 30.0  # degrees: furrows of two poses this far apart do not share a map
 CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's furrows
 REVEAL_SHARE = 0.1  # a pose reveals its map where it compresses this share of its strongest
-PLACED_GAIN = 2.0  # a frown's glabellar lines, the deepest an artist paints, this much deeper
+PLACED_GAIN = 3.5  # a frown's glabellar lines, the deepest an artist paints, this much deeper
 PLACED_SHARPNESS = 1.0  # … and as wide as their spacing: a few close lines, no flat between
 BARE_SOFTNESS = 0.006  # of the map's size: the soft edge where furrows give way to bare skin
 MOVED_SHARE = 0.2  # … and where it moves the skin by this share of its largest motion
+PLACED_WINDOW = 0.05  # anatomy's lines reach the vertices where their window is this much …
+PLACED_SHARE = 0.1  # … and the pose compresses the skin by this share of its strongest there
+WINDOW_RINGS = 3  # the pose wrinkles this many triangles around the window, its mask's edge
 
 
 @dataclass
@@ -163,6 +166,10 @@ class FurrowField:
     bare: Array | None = None
     gain: float = 1.0  # depth relative to the map's: anatomy's signature lines run deeper …
     sharpness: float = SHARPNESS  # … and wider, their walls spanning the whole spacing
+    # (W,) bool, for lines anatomy placed: the welded vertices they lie on, which the pose's
+    # technique-2 area must hold (it reveals the map only on its vertices' triangles), …
+    region: Array | None = None
+    window: Array | None = None  # … and those anatomy lets them lie on (its window)
 
     def depth(self) -> Array:
         """Each texel's furrow depth in [0, 1]: its amount eased out (a·(2 − a): furrows keep
@@ -192,14 +199,17 @@ def pose_full_at(compression: Array, full_at: float) -> float:
 def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
                  full_at: float, smoothing: float, spacing: float,
                  placed: tuple[Array, Array] | None = None,
-                 moved: Array | None = None, keep: Array | None = None) -> FurrowField:
+                 moved: Array | None = None, keep: Array | None = None,
+                 area: Array | None = None) -> FurrowField:
     """Rasterise and smooth one pose's compression and direction fields, lay furrows across
     the direction (``furrow_phase``) and upsample to the map's size. ``placed``: a window and
     a phase at the work size that anatomy gives this pose's lines (a frown's, between the
     brows): the furrows then lie where the window and the pose's compression meet, along
     that phase. ``moved``: a work-size image of the pose's motion as a share of its largest:
     its technique-2 vectors reveal the map from ``MOVED_SHARE`` on. ``keep``:
-    a work-size image in [0, 1], where on the face furrows may lie at all."""
+    a work-size image in [0, 1], where on the face furrows may lie at all. ``area``: for
+    placed lines, a work-size image of the pose's technique-2 area (its vertices 1, the rest
+    0, interpolated over the triangles as the vertex shader does): the lines end inside it."""
     work = ids.shape[0]
     covered = ids >= 0
     tri = np.where(covered, ids, 0)
@@ -230,8 +240,9 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         strength, phase, c, s = _placed_furrows(amount, placed[1])
         lines = mask_ops.resample(placed[0], size).ravel() > 1e-3
         strength = strength * placed[0]
-        if moved is not None:  # ending inside the technique-2 area, not cut by its triangles
-            strength = strength * np.clip(4.0 * (moved / MOVED_SHARE - 1.0), 0.0, 1.0)
+        if area is not None:  # ending inside the technique-2 area, not cut by its triangles
+            inside = np.clip(2.0 * mask_ops.blur(area, 0.5 * radius) - 1.0, 0.0, 1.0)
+            strength = strength * inside * inside * (3.0 - 2.0 * inside)
     else:
         angle = np.mod(0.5 * np.arctan2(s, c), np.pi)
         phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
@@ -487,30 +498,64 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
     skin_tri = (np.ones(mesh.n_triangles, np.float32) if skin is None
                 else np.asarray(skin, np.float32)[mesh.welded_triangles].min(axis=1))
     smoothing = 1.5 * options.spacing if options.smoothing is None else options.smoothing
-    glabella_lines = keep = None
+    face_xyz = keep = None
     if places is not None:
-        x, y, z = (raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2))
-        glabella_lines = anatomy.glabella(x, y, z, places.midline)
-        glabella_lines = (np.where(ids >= 0, glabella_lines[0], 0.0), glabella_lines[1])
+        face_xyz = [raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2)]
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
+    corners = mesh.welded_triangles.ravel()
+    per_corner = np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1)
     fields = []
     for i, target in enumerate(targets):
         strain = uv_strain.of(target)
-        placed = None
-        if glabella_lines is not None and places is not None:
-            per_vertex = np.bincount(mesh.welded_triangles.ravel(),
-                                     np.repeat(strain.compression * skin_tri, 3), mesh.n_welded)
-            if places.lowers_brow(mesh.rest, target, per_vertex):
-                placed = glabella_lines
         motion = np.linalg.norm(np.asarray(target, np.float64) - mesh.rest, axis=1)
         if skin is not None:
             motion = motion * (np.asarray(skin) > 0)
-        moved = raster.image((motion / max(float(motion.max()), 1e-300))[mesh.weld])
-        fields.append(furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
-                                   options.spacing, placed, moved, keep))
+        share = motion / max(float(motion.max()), 1e-300)
+        moved = raster.image(share[mesh.weld])
+        placed = area = region = vertex_window = None
+        if places is not None and face_xyz is not None:
+            per_vertex = np.bincount(corners, np.repeat(strain.compression * skin_tri, 3),
+                                     mesh.n_welded)
+            if places.lowers_brow(mesh.rest, target, per_vertex):
+                band = places.squeezed_band(per_vertex / per_corner)
+                window, phase = anatomy.glabella(*face_xyz, places.midline, *band)
+                placed = (np.where(ids >= 0, window, 0.0), phase)
+                vertex_window = anatomy.glabella(*places.xyz.T, places.midline, *band)[0]
+                region = placed_region(vertex_window, per_vertex / per_corner)
+                area = raster.image(((share > MOVED_SHARE) | region).astype(np.float32)[mesh.weld])
+        field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
+                             options.spacing, placed, moved, keep, area)
+        if region is not None and vertex_window is not None:
+            field.region = region
+            field.window = _grown(vertex_window > PLACED_WINDOW, mesh.welded_triangles,
+                                  WINDOW_RINGS)
+        fields.append(field)
         if progress is not None and not progress(i + 1, total or len(targets)):
             return None
     return fields
+
+
+def _grown(vertices: Array, triangles: Array, rings: int) -> Array:
+    """(W,) bool: ``vertices`` and those ``rings`` triangles away from them."""
+    grown = np.asarray(vertices, bool)
+    for _ in range(rings):
+        touched = grown[triangles].any(axis=1)
+        grown = grown | (np.bincount(triangles[touched].ravel(), minlength=len(grown)) > 0)
+    return grown
+
+
+def placed_region(window: Array, compression: Array) -> Array:
+    """(W,) bool: the vertices anatomy's lines lie on, from their window (``anatomy.glabella``
+    per vertex) and the pose's mean compression around each: inside the window, where the
+    pose compresses the skin by ``PLACED_SHARE`` of its strong compression there (the 98th
+    percentile), and at least by ``WRINKLING_COMPRESSION`` — every line inside the skin the
+    pose squeezes, most on the side a one-sided brow lowerer pulls."""
+    inside = window > PLACED_WINDOW
+    squeezed = compression[inside & (compression > 0.0)]
+    if squeezed.size == 0:
+        return np.zeros(len(window), bool)
+    least = max(PLACED_SHARE * float(np.percentile(squeezed, 98)), WRINKLING_COMPRESSION)
+    return inside & (compression >= least)
 
 
 def work_size(mesh: FaceMesh) -> int:
@@ -648,13 +693,17 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
 
 
 def fill_placeholder(project: Project, options: SynthOptions | None = None,
-                     progress: Progress | None = None, poses: Sequence[str] | None = None
+                     progress: Progress | None = None, poses: Sequence[str] | None = None,
+                     placed: dict[str, tuple[Array, Array]] | None = None
                      ) -> dict[str, list[str]] | None:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
     imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
     lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
     shader's four). Returns {map name: its poses}; empty if every map is authored or the face
-    has no key poses; None if ``progress`` (called with done, total) returned False."""
+    has no key poses; None if ``progress`` (called with done, total) returned False.
+    ``placed``, when given, receives {pose: ((W,) bool, (W,) bool)} for each pose whose lines
+    anatomy placed: the vertices its technique-2 area must hold to reveal them
+    (``FurrowField.region``), and those where anatomy lets its lines lie (``.window``)."""
     textures = project.textures
     name = next((n for n, image in textures.wrinkle_maps.items() if is_flat(image)), None)
     if name is None or not project.poses:
@@ -668,6 +717,9 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
                                                 project.skin_weights()))
     if fields is None:
         return None
+    if placed is not None:
+        placed.update({names[i]: (f.region, f.window) for i, f in enumerate(fields)
+                       if f.region is not None and f.window is not None})
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
     groups = crossing_groups(fields, room, options.size)
     neutral = textures.normal_neutral
