@@ -88,6 +88,23 @@ def test_auto_setup_gives_both_techniques_wrinkles_in_one_undo_step(fresh, dialo
     assert np.array_equal(viewport_image(fresh), after["t2"])
 
 
+def test_auto_setup_holds_a_frown_s_placed_lines_as_new_auto_does(fresh, dialogs):
+    """The menu's set-up is ``new --auto``'s: a frown's WDV area holds the vertices
+    of the lines anatomy places between the brows (``wrinkle_synth.placed_lines``), so a
+    synthesised map's lines show whole. Red once: the menu called ``suggest_setup`` without
+    them, and the area missed some of the lines' vertices."""
+    from studio.core.setup.wrinkle_synth import placed_lines
+
+    doc = fresh.doc
+    placed = placed_lines(doc.project, frame=doc.face_frame())
+    assert "frown" in placed
+    trigger(fresh, "Auto Setup from Poses")
+    for pose in placed:
+        lines, _ = placed[pose]
+        (area,) = [a for a in doc.project.wdv.areas if a.pose == pose]
+        assert lines.any() and area.authored[lines].all(), pose
+
+
 def test_auto_setup_reports_poses_that_give_nothing(fresh, dialogs):
     doc = fresh.doc
     doc.project.poses[0].positions[:] = doc.project.mesh.rest  # a pose that moves nothing

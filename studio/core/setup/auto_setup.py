@@ -27,7 +27,7 @@ from studio.core.files.naming import unique_name
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.selection import suggest
 from studio.core.project.model import Project
-from studio.core.setup.wrinkle_synth import UvRaster, fill_placeholder
+from studio.core.setup.wrinkle_synth import UvRaster, fill_placeholder, placed_lines
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.skin_strain import PoseStrain, SkinStrain, compression_weights
@@ -168,7 +168,7 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
                   threshold: float = MASK_THRESHOLD, softness: float = MASK_SOFTNESS,
                   locate: Callable[[Array], str] | None = None,
                   progress: Callable[[int, int], bool] | None = None,
-                  placed: Mapping[str, tuple[Array, Array]] | None = None
+                  placed: Mapping[str, tuple[Array, Array]] | None = None, frame=None
                   ) -> AutoSetupReport | None:
     """The areas and links an automatic setup would add, without changing the project.
 
@@ -178,15 +178,18 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     Each pose's strain goes into the report; ``locate`` names the region of a neutral-face
     point, for the report to say where a pose compresses the skin. None if ``progress``
     (called with poses done, poses in all) returned False. ``placed``: for the poses whose
-    lines anatomy placed on a synthesised map (``wrinkle_synth.fill_placeholder``), {pose:
-    (the vertices of those lines, those where anatomy lets them lie)}: the pose's WDV area
-    and mask hold the lines' vertices besides what it moves and compresses most, and it
-    wrinkles nowhere outside anatomy's place. Each area's cones are narrowed where another of
-    these poses would show its wrinkles without wrinkling the skin there (``narrow_cones``).
+    lines anatomy places on a synthesised map, {pose: (the vertices of those lines, those
+    where anatomy lets them lie)} — by default ``wrinkle_synth.placed_lines`` (from the face's
+    ``frame``, found when not given), so ``new --auto`` and Tools ▸ Auto Setup make the same
+    areas: the pose's WDV area and mask hold the lines' vertices besides what it moves and
+    compresses most, and it wrinkles nowhere outside anatomy's place. Each area's cones are
+    narrowed where another of these poses would show its wrinkles without wrinkling the skin
+    there (``narrow_cones``).
     """
     names = [p.name for p in project.poses] if poses is None else list(poses)
-    placed = placed or {}
     shape = setup_mask_size(project, mask_size)
+    if placed is None:
+        placed = placed_lines(project, [n for n in names if n != NEUTRAL], frame)
     rest = project.mesh.rest
     report = AutoSetupReport()
     wdv_taken = [a.name for a in project.wdv.areas]
@@ -324,9 +327,9 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
     where poses' furrows cross, each pose's areas revealing its own — so that the imported face
     shows wrinkles at once. Returns what was done, a line each; None, with the project
     untouched, if ``progress`` (done, total: the synthesis's steps then the set-up's) returned
-    False. ``poses``: the key poses to set up (default all), e.g. a rig's wrinkling ones. The
-    maps come first: where anatomy placed a pose's lines (a frown's), its mask and vectors
-    hold them whole."""
+    False. ``poses``: the key poses to set up (default all), e.g. a rig's wrinkling ones.
+    Where anatomy places a pose's lines (a frown's), its mask and vectors hold them whole, as
+    Tools ▸ Auto Setup's do: both go through ``suggest_setup``."""
     steps = len(project.poses) if poses is None else len(poses)
     textures = dict(project.textures.wrinkle_maps)
 
@@ -337,11 +340,9 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
         before = steps if made else 0
         return progress is None or progress(before + done, before + total)
 
-    # the maps first: where anatomy placed a pose's lines, its WDV area must reach
-    placed: dict[str, tuple[Array, Array]] = {}
-    made = fill_placeholder(project, progress=synth_progress, poses=poses, placed=placed)
+    made = fill_placeholder(project, progress=synth_progress, poses=poses)
     report = None if made is None else suggest_setup(
-        project, locate=locate, progress=setup_progress, poses=poses, placed=placed)
+        project, locate=locate, progress=setup_progress, poses=poses)
     if made is None or report is None:
         project.textures.wrinkle_maps = textures
         return None

@@ -166,10 +166,6 @@ class FurrowField:
     bare: Array | None = None
     gain: float = 1.0  # depth relative to the map's: anatomy's signature lines run deeper …
     sharpness: float = SHARPNESS  # … and wider, their walls spanning the whole spacing
-    # (W,) bool, for lines anatomy placed: the welded vertices they lie on, which the pose's
-    # technique-2 area must hold (it reveals the map only on its vertices' triangles), …
-    region: Array | None = None
-    window: Array | None = None  # … and those anatomy lets them lie on (its window)
 
     def depth(self) -> Array:
         """Each texel's furrow depth in [0, 1]: its amount eased out (a·(2 − a): furrows keep
@@ -502,8 +498,6 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
     if places is not None:
         face_xyz = [raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2)]
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
-    corners = mesh.welded_triangles.ravel()
-    per_corner = np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1)
     fields = []
     for i, target in enumerate(targets):
         strain = uv_strain.of(target)
@@ -512,23 +506,16 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
             motion = motion * (np.asarray(skin) > 0)
         share = motion / max(float(motion.max()), 1e-300)
         moved = raster.image(share[mesh.weld])
-        placed = area = region = vertex_window = None
+        placed = area = lines = None
         if places is not None and face_xyz is not None:
-            per_vertex = np.bincount(corners, np.repeat(strain.compression * skin_tri, 3),
-                                     mesh.n_welded)
-            if places.lowers_brow(mesh.rest, target, per_vertex):
-                band = places.squeezed_band(per_vertex / per_corner)
-                window, phase = anatomy.glabella(*face_xyz, places.midline, *band)
-                placed = (np.where(ids >= 0, window, 0.0), phase)
-                vertex_window = anatomy.glabella(*places.xyz.T, places.midline, *band)[0]
-                region = placed_region(vertex_window, per_vertex / per_corner)
-                area = raster.image(((share > MOVED_SHARE) | region).astype(np.float32)[mesh.weld])
+            lines = vertex_lines(places, mesh, target, strain.compression * skin_tri)
+        if lines is not None and places is not None and face_xyz is not None:
+            window, phase = anatomy.glabella(*face_xyz, places.midline, *lines.band)
+            placed = (np.where(ids >= 0, window, 0.0), phase)
+            area = raster.image(((share > MOVED_SHARE) | lines.region
+                                 ).astype(np.float32)[mesh.weld])
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
                              options.spacing, placed, moved, keep, area)
-        if region is not None and vertex_window is not None:
-            field.region = region
-            field.window = _grown(vertex_window > PLACED_WINDOW, mesh.welded_triangles,
-                                  WINDOW_RINGS)
         fields.append(field)
         if progress is not None and not progress(i + 1, total or len(targets)):
             return None
@@ -542,6 +529,55 @@ def _grown(vertices: Array, triangles: Array, rings: int) -> Array:
         touched = grown[triangles].any(axis=1)
         grown = grown | (np.bincount(triangles[touched].ravel(), minlength=len(grown)) > 0)
     return grown
+
+
+@dataclass
+class VertexLines:
+    """Lines anatomy places for one pose, per welded vertex."""
+
+    band: tuple[float, bool]  # where its squeezed skin begins, room for a nose line (anatomy)
+    window: Array  # (W,) float: where anatomy lets its lines lie (``anatomy.glabella``)
+    region: Array  # (W,) bool: the vertices they lie on (``placed_region``)
+
+
+def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Array
+                 ) -> VertexLines | None:
+    """The lines anatomy places for a pose that lowers a brow (a frown's), from its
+    compression on the skin per triangle (``squeezed``); None for any other pose. Per vertex
+    only, so the set-up can find them without synthesising a map: the map's furrows and the
+    areas that reveal them come from this one place."""
+    corners = mesh.welded_triangles.ravel()
+    total = np.bincount(corners, np.repeat(np.asarray(squeezed, np.float64), 3), mesh.n_welded)
+    if not places.lowers_brow(mesh.rest, target, total):
+        return None
+    mean = total / np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1)
+    band = places.squeezed_band(mean)
+    window = anatomy.glabella(*places.xyz.T, places.midline, *band)[0]
+    return VertexLines(band, window, placed_region(window, mean))
+
+
+def placed_lines(project: Project, poses: Sequence[str] | None = None, frame=None
+                 ) -> dict[str, tuple[Array, Array]]:
+    """{pose: ((W,) bool, (W,) bool)} for each pose (all, or ``poses``) whose lines anatomy
+    places on a synthesised map (``vertex_lines``): the vertices its technique-2 area must
+    hold to reveal them, and those where anatomy lets its lines lie (its window grown by
+    ``WINDOW_RINGS`` triangles, its mask's edge). ``frame``: the face's frame, if known. What
+    ``auto_setup.suggest_setup`` uses, from ``new --auto`` and Tools ▸ Auto Setup alike."""
+    names = [p.name for p in project.poses] if poses is None else list(poses)
+    mesh = project.skin_mesh()
+    skin = project.skin_weights()
+    places = FacePlaces.of(frame if frame is not None else face_frame(project),
+                           project.mesh.rest, skin)
+    uv_strain = UvStrain(mesh)
+    skin_tri = np.asarray(skin, np.float32)[mesh.welded_triangles].min(axis=1)
+    out = {}
+    for name in names:
+        target = project.pose(name).positions
+        lines = vertex_lines(places, mesh, target, uv_strain.of(target).compression * skin_tri)
+        if lines is not None:
+            out[name] = (lines.region, _grown(lines.window > PLACED_WINDOW,
+                                              mesh.welded_triangles, WINDOW_RINGS))
+    return out
 
 
 def placed_region(window: Array, compression: Array) -> Array:
@@ -693,17 +729,14 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
 
 
 def fill_placeholder(project: Project, options: SynthOptions | None = None,
-                     progress: Progress | None = None, poses: Sequence[str] | None = None,
-                     placed: dict[str, tuple[Array, Array]] | None = None
+                     progress: Progress | None = None, poses: Sequence[str] | None = None
                      ) -> dict[str, list[str]] | None:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
     imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
     lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
     shader's four). Returns {map name: its poses}; empty if every map is authored or the face
-    has no key poses; None if ``progress`` (called with done, total) returned False.
-    ``placed``, when given, receives {pose: ((W,) bool, (W,) bool)} for each pose whose lines
-    anatomy placed: the vertices its technique-2 area must hold to reveal them
-    (``FurrowField.region``), and those where anatomy lets its lines lie (``.window``)."""
+    has no key poses; None if ``progress`` (called with done, total) returned False. Where
+    anatomy placed a pose's lines, ``placed_lines`` gives the set-up their vertices."""
     textures = project.textures
     name = next((n for n, image in textures.wrinkle_maps.items() if is_flat(image)), None)
     if name is None or not project.poses:
@@ -717,9 +750,6 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
                                                 project.skin_weights()))
     if fields is None:
         return None
-    if placed is not None:
-        placed.update({names[i]: (f.region, f.window) for i, f in enumerate(fields)
-                       if f.region is not None and f.window is not None})
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
     groups = crossing_groups(fields, room, options.size)
     neutral = textures.normal_neutral

@@ -194,8 +194,9 @@ class AutoTools:
         progress, step = progress_dialog(self.window, "Auto Setup",
                                          "Measuring how each key pose moves the skin…")
         try:
-            report = auto_setup.suggest_setup(
-                project, progress=step, locate=face_locator(self.doc.face_frame()))
+            frame = self.doc.face_frame()
+            report = auto_setup.suggest_setup(project, progress=step, locate=face_locator(frame),
+                                              frame=frame)
         except StudioError as exc:
             self.window.show_error("Cannot set up from the poses", exc)
             return None
