@@ -90,7 +90,6 @@ def test_activations_follow_the_studios_area_and_link_edits_and_their_undo(qtbot
         lambda: delete_area(doc, 1),
         lambda: set_area_visible(doc, index("new"), False),
         lambda: doc.set_area_activation(index(names[3]), 0.6),
-        lambda: doc.set_pose_weight("surprise", 0.1),
     ]
     history = [activations()]
     for edit in edits:
@@ -98,7 +97,12 @@ def test_activations_follow_the_studios_area_and_link_edits_and_their_undo(qtbot
         history.append(activations())
     changed = [a.shape != b.shape or not np.array_equal(a, b)
                for a, b in itertools.pairwise(history)]
-    assert changed == [True, True, True, False, True, True, True, True, True, True, True]
+    assert changed == [True, True, True, False, True, True, True, True, True, True]
+    steps = doc.undo_stack.count()
+    doc.set_pose_weight("surprise", 0.1)  # a view of the face: the activations follow it,
+    assert not np.array_equal(activations(), history[-1])  # but it is no step to undo
+    assert doc.undo_stack.count() == steps
+    doc.set_pose_weight("surprise", WEIGHTS["surprise"])
     for expected in reversed(history[:-1]):
         doc.undo_stack.undo()
         np.testing.assert_array_equal(activations(), expected)
