@@ -58,7 +58,9 @@ def cached_sample() -> Project:
     project = sample_project()
     _frame_face(project)
     keep = copy.deepcopy(project)  # the window may change its copy while this one is written
-    threading.Thread(target=_keep, args=(keep, path), name="sample-cache", daemon=True).start()
+    # not a daemon: a studio closed seconds after its first start still finishes the write
+    # (the interpreter waits for it), or the next start would set the sample up again
+    threading.Thread(target=_keep, args=(keep, path), name="sample-cache", daemon=False).start()
     return project
 
 
