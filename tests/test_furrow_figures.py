@@ -8,7 +8,9 @@ with none: the luminance difference d, its gradients gx, gy over the pixels wher
   everywhere, about 0.3 for crumpled skin;
 - **between the brows**: the share of a frown's changed pixels inside the glabella's box, as
   wide as the gap between the inner ends of the brows (landmarks 21 and 22) and from the bridge
-  of the nose (landmark 28) up to one and a half gaps above the brows.
+  of the nose (landmark 28) up to one and a half gaps above the brows;
+- **temple side**: the share of a left squint's changed pixels beyond the outer corner of the
+  left eye (landmark 45), toward the temple: its crow's feet.
 
 On the bundled sample (the ICT-FaceKit head, 17 wrinkling poses on four maps), on the head the
 tests build in production conventions (millimetres, Z up, UDIM tiles, separate eyes and teeth)
@@ -50,23 +52,28 @@ class Figures:
     ratio: float  # Gy/Gx
     coherence: float
     between_brows: float  # share of the changed pixels in the glabella's box (nan: no box)
+    temple_side: float = float("nan")  # … and beyond the left eye's outer corner
 
 
 def luminance(image: np.ndarray) -> np.ndarray:
     return image[..., :3].astype(np.float64) @ np.array([0.299, 0.587, 0.114])
 
 
-def furrow_figures(posed: np.ndarray, plain: np.ndarray, box: np.ndarray | None = None
-                   ) -> Figures:
+def furrow_figures(posed: np.ndarray, plain: np.ndarray, box: np.ndarray | None = None,
+                   temple: np.ndarray | None = None) -> Figures:
     """The issue's figures of what a technique changes (``posed`` against ``plain``)."""
     d = luminance(posed) - luminance(plain)
     gy, gx = np.gradient(d)
     on = np.abs(d) > CHANGED
     xx, yy, xy = (gx[on] ** 2).sum(), (gy[on] ** 2).sum(), (gx[on] * gy[on]).sum()
     total = max(xx + yy, 1e-12)
-    share = float((on & box).sum() / max(on.sum(), 1)) if box is not None else float("nan")
+
+    def share(where: np.ndarray | None) -> float:
+        return float((on & where).sum() / max(on.sum(), 1)) if where is not None else float("nan")
+
     return Figures(float(yy / max(xx, 1e-12)),
-                   float(np.sqrt((xx - yy) ** 2 + 4.0 * xy * xy) / total), share)
+                   float(np.sqrt((xx - yy) ** 2 + 4.0 * xy * xy) / total), share(box),
+                   share(temple))
 
 
 def glabella_box(pixels: np.ndarray) -> np.ndarray:
@@ -76,6 +83,14 @@ def glabella_box(pixels: np.ndarray) -> np.ndarray:
     top = min(pixels[21, 1], pixels[22, 1]) - 1.5 * gap
     yy, xx = np.mgrid[0:SIZE, 0:SIZE]
     return (xx >= left) & (xx <= right) & (yy >= top) & (yy <= pixels[28, 1])
+
+
+def temple_side(pixels: np.ndarray) -> np.ndarray:
+    """(SIZE, SIZE) bool: the image beyond the character's left eye's outer corner (landmark
+    45; less a tenth of the eye's width, 42 to 45), toward the temple: where a left squint's
+    crow's feet lie."""
+    xx = np.mgrid[0:SIZE, 0:SIZE][1]
+    return xx >= pixels[45, 0] - 0.1 * abs(pixels[45, 0] - pixels[42, 0])
 
 
 def front_figures(project: Project, poses: dict[str, tuple[str, ...]],
@@ -89,15 +104,16 @@ def front_figures(project: Project, poses: dict[str, tuple[str, ...]],
     with OffscreenStudio(project, SIZE, SIZE) as studio:
         aim(studio.camera, project, "face")
         studio.camera.yaw = 0.0
-        box = None
+        box = temple = None
         if marks is not None:
-            box = glabella_box(studio.camera.project(marks, SIZE, SIZE)[0])
+            pixels = studio.camera.project(marks, SIZE, SIZE)[0]
+            box, temple = glabella_box(pixels), temple_side(pixels)
         for name, pose_names in poses.items():
             weights = dict.fromkeys(pose_names, 1.0)
             plain = studio.render(RenderSettings(technique="none"), weights)
             for technique in techniques:
                 posed = studio.render(RenderSettings(technique=technique), weights)
-                out[name, technique] = furrow_figures(posed, plain, box)
+                out[name, technique] = furrow_figures(posed, plain, box, temple)
     return out
 
 
@@ -106,7 +122,7 @@ def sample() -> dict[tuple[str, str], Figures]:
     project = sample_project()
     poses = {"browInnerUp_L": ("browInnerUp_L",), "surprise": SURPRISE,
              "browDown_L": ("browDown_L",), "browDown_R": ("browDown_R",), "frown": FROWN,
-             "mouthSmile_L": ("mouthSmile_L",)}
+             "mouthSmile_L": ("mouthSmile_L",), "eyeSquint_L": ("eyeSquint_L",)}
     return front_figures(project, poses, ("t2", "t1"),
                          project.mesh.rest[landmark_vertices()])
 
@@ -142,6 +158,16 @@ def test_a_frown_s_lines_lie_between_the_brows(sample) -> None:
 def test_the_sample_s_smile_stays_orderly(sample) -> None:
     """Measured coherence 0.74 (t2)."""
     assert sample["mouthSmile_L", "t2"].coherence >= 0.55, sample["mouthSmile_L", "t2"]
+
+
+def test_a_squint_draws_crow_s_feet_beside_the_outer_corner_of_the_eye(sample) -> None:
+    """A squint's lines fan out from the outer corner of the eye over the temple side only,
+    where it squeezes the skin, none on the eye nor back toward the nose: measured 100 % of its
+    change beyond the corner with either technique (``temple_side``). 46 % (t2) and 32 % (t1)
+    before, when furrows across its compression crossed under the eye."""
+    for technique in ("t2", "t1"):
+        f = sample["eyeSquint_L", technique]
+        assert f.temple_side >= 0.9, (technique, f)
 
 
 def production_project(folder: Path, vertices: int) -> Project:

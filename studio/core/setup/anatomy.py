@@ -1,4 +1,5 @@
-"""Where an artist puts a pose's lines, from the face's anatomy: the glabellar lines of a frown.
+"""Where an artist puts a pose's lines, from the face's anatomy: the glabellar lines of a frown,
+the crow's feet of a squint.
 
 The furrows of ``wrinkle_synth`` follow each pose's own compression, which is what makes them
 work on any head. A rig's brow lowerer, though, squeezes the whole brow and the lower forehead
@@ -10,6 +11,11 @@ from the face: three vertical lines (one on the midline, one either side of it),
 than the inner ends of the brows, from above the root of the nose up into the lower forehead,
 and one shallower line across the root of the nose where the squeezed skin reaches that low.
 Every line stays inside the skin the pose compresses (``wrinkle_synth.placed_region``).
+
+A squint (the lower lid pushed up) squeezes the lids and the skin under the eye, and furrows
+across that compression cross under the eye and radiate both ways from a point — where an
+artist paints crow's feet: three to five lines fanning out from the outer corner of the eye
+over the temple side only, none on the eye (``crows_feet``).
 
 Places are in face coordinates (``FacePlaces``: x toward the character's left, y up, z to
 the front, from the tip of the nose, in the face box's half width), with anchors measured on
@@ -55,6 +61,21 @@ LINE_OFFSET = 0.0  # one line on the midline, then every …
 LINE_SPACING = 0.55  # … this share of the inner brows' half gap: three lines between the brows
 SIDE_FULL = 0.9  # the lines at full depth this far out (shares of the inner brows' half gap) …
 SIDE_END = 1.2  # … and none past the inner ends of the brows
+OUTER_EYE = (0.635, 0.476)  # the outer corner of an eye (face x either side, y) …
+EYE_REACH = 0.4  # … the skin within this of it, no higher than …
+EYE_ABOVE = 0.05  # … this above it: a squint squeezes this share of its compression there …
+EYE_SHARE = 0.4  # … (a brow lowerer: 0.12, a smile 0.07, a look up 0.28 on the ICT head) …
+EYE_UP = 0.1  # … and that skin moves up by this share of its motion (the ICT head's squint:
+# 0.71, cheek raise 0.65; the glTF test avatar's squint, toward the corner: 0.15; a look aside
+# 0.05–0.07, a blink −0.35)
+FAN_START = 0.06  # crow's feet from this far from the outer corner (off the lids) …
+FAN_END = 0.46  # … out to this far, fading over …
+FAN_FADE = 0.05  # … this much
+FAN_ANGLES = (-68.0, 50.0)  # degrees from straight outward (up positive): the fan's spread …
+FAN_EDGE = 10.0  # … fading over this much …
+FAN_SPACING = 25.0  # … a line every this many degrees, …
+FAN_FIRST = -60.0  # … the lowest here, …
+FAN_GAIN = 1.5  # … this much deeper than a frown's lines: few, on skin the squint barely squeezes
 
 
 @dataclass(frozen=True)
@@ -104,6 +125,33 @@ class FacePlaces:
         down = -float(weight @ (motion @ up_axis)) / total
         size = float(weight @ np.linalg.norm(motion, axis=1)) / total
         return size > 0.0 and down > DOWNWARD * size
+
+    def squinting_sides(self, rest: Array, target: Array, compression: Array
+                        ) -> tuple[float, ...]:
+        """The sides (−1: the character's right, 1: left, face x) on which a pose squints:
+        ``EYE_SHARE`` of the skin it compresses (``compression`` per vertex) lies around that
+        outer corner of the eye (within ``EYE_REACH``, no higher than ``EYE_ABOVE`` above it)
+        and moves up by ``EYE_UP`` of its motion — the lower lid and cheek pushed up, not an
+        upper lid closing (a blink), the eye looking aside (the lids slide sideways) nor a
+        brow lowered. Empty for any other pose."""
+        weight = np.asarray(compression, np.float64)
+        total = weight.sum()
+        if total <= 0.0:
+            return ()
+        x, y = self.xyz[:, 0].astype(np.float64), self.xyz[:, 1].astype(np.float64)
+        motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
+        up = motion @ self._up(rest)
+        size = np.linalg.norm(motion, axis=1)
+        sides = []
+        for side in (-1.0, 1.0):
+            near = ((np.hypot(x - self.midline - side * OUTER_EYE[0], y - OUTER_EYE[1])
+                     < EYE_REACH) & (y < OUTER_EYE[1] + EYE_ABOVE))
+            share = float(weight[near].sum()) / total
+            moved = float(weight[near] @ size[near])
+            if share >= EYE_SHARE and moved > 0.0 and (
+                    float(weight[near] @ up[near]) >= EYE_UP * moved):
+                sides.append(side)
+        return tuple(sides)
 
     def squeezed_band(self, compression: Array) -> tuple[float, bool]:
         """Where a frown's lines begin on this head: the bottom (face y) of the skin a brow
@@ -174,3 +222,27 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
                          phase)
         vertical = np.maximum(vertical, across_root)
     return (vertical * facing).astype(np.float32), phase.astype(np.float32)
+
+
+def crows_feet(x: Array, y: Array, z: Array, midline: float,
+               sides: tuple[float, ...] = (-1.0, 1.0)) -> tuple[Array, Array]:
+    """(window, phase) images for a squint's crow's feet from images of face x, y and z (or
+    per-vertex arrays of them), beside the outer corner of the eye on the ``sides`` it
+    squints (``FacePlaces.squinting_sides``): lines radiating from the corner outward only,
+    ``FAN_SPACING`` degrees apart over ``FAN_ANGLES``, from ``FAN_START`` (off the lids) to
+    ``FAN_END`` from the corner. The phase runs around the corner (a line's bottom at each
+    multiple of 2π)."""
+    del z  # the temple faces sideways, the lids forward: both hold crow's feet
+    side = np.where(x - midline >= 0.0, 1.0, -1.0)
+    dx = side * (x - midline) - OUTER_EYE[0]  # outward from the corner
+    dy = y - OUTER_EYE[1]
+    r = np.hypot(dx, dy)
+    angle = np.degrees(np.arctan2(dy, dx))
+    low, high = FAN_ANGLES
+    window = (_smoothstep(FAN_START - FAN_FADE, FAN_START + FAN_FADE, r)
+              * _smoothstep(FAN_END + FAN_FADE, FAN_END - FAN_FADE, r)
+              * _smoothstep(low - FAN_EDGE, low + FAN_EDGE, angle)
+              * _smoothstep(high + FAN_EDGE, high - FAN_EDGE, angle)
+              * np.isin(side, sides))
+    phase = 2.0 * np.pi * (angle - FAN_FIRST) / FAN_SPACING
+    return window.astype(np.float32), phase.astype(np.float32)

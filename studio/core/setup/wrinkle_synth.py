@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -194,15 +195,16 @@ def pose_full_at(compression: Array, full_at: float) -> float:
 
 def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
                  full_at: float, smoothing: float, spacing: float,
-                 placed: tuple[Array, Array] | None = None,
+                 placed: tuple[Array, Array, float] | None = None,
                  moved: Array | None = None, keep: Array | None = None,
                  area: Array | None = None) -> FurrowField:
     """Rasterise and smooth one pose's compression and direction fields, lay furrows across
     the direction (``furrow_phase``) and upsample to the map's size. ``placed``: a window and
     a phase at the work size that anatomy gives this pose's lines (a frown's, between the
-    brows): the furrows then lie where the window and the pose's compression meet, along
-    that phase. ``moved``: a work-size image of the pose's motion as a share of its largest:
-    its technique-2 vectors reveal the map from ``MOVED_SHARE`` on. ``keep``:
+    brows; a squint's crow's feet) and their depth relative to ``PLACED_GAIN``: the furrows
+    then lie where the window and the pose's compression meet, along that phase. ``moved``: a
+    work-size image of the pose's motion as a share of its largest: its technique-2 vectors
+    reveal the map from ``MOVED_SHARE`` on. ``keep``:
     a work-size image in [0, 1], where on the face furrows may lie at all. ``area``: for
     placed lines, a work-size image of the pose's technique-2 area (its vertices 1, the rest
     0, interpolated over the triangles as the vertex shader does): the lines end inside it."""
@@ -260,7 +262,8 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     return FurrowField(index, strength.ravel()[index], degrees.astype(np.float32),
                        _resample_unbounded(phase, size).ravel()[index],
                        np.flatnonzero(reveals & ~lines),
-                       *((1.0, SHARPNESS) if placed is None else (PLACED_GAIN, PLACED_SHARPNESS)))
+                       *((1.0, SHARPNESS) if placed is None
+                         else (PLACED_GAIN * placed[2], PLACED_SHARPNESS)))
 
 
 def _placed_furrows(amount: Array, phase: Array) -> tuple[Array, Array, Array, Array]:
@@ -510,8 +513,8 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
         if places is not None and face_xyz is not None:
             lines = vertex_lines(places, mesh, target, strain.compression * skin_tri)
         if lines is not None and places is not None and face_xyz is not None:
-            window, phase = anatomy.glabella(*face_xyz, places.midline, *lines.band)
-            placed = (np.where(ids >= 0, window, 0.0), phase)
+            window, phase = lines.place(*face_xyz)
+            placed = (np.where(ids >= 0, window, 0.0), phase, lines.gain)
             area = raster.image(((share > MOVED_SHARE) | lines.region
                                  ).astype(np.float32)[mesh.weld])
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
@@ -535,25 +538,34 @@ def _grown(vertices: Array, triangles: Array, rings: int) -> Array:
 class VertexLines:
     """Lines anatomy places for one pose, per welded vertex."""
 
-    band: tuple[float, bool]  # where its squeezed skin begins, room for a nose line (anatomy)
-    window: Array  # (W,) float: where anatomy lets its lines lie (``anatomy.glabella``)
+    # (window, phase) from images (or arrays) of face x, y and z: ``anatomy.glabella`` or
+    # ``anatomy.crows_feet`` for this head and pose
+    place: Callable[[Array, Array, Array], tuple[Array, Array]]
+    window: Array  # (W,) float: where anatomy lets its lines lie (``place``'s window)
     region: Array  # (W,) bool: the vertices they lie on (``placed_region``)
+    gain: float = 1.0  # their depth, relative to a frown's lines (``PLACED_GAIN``)
 
 
 def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Array
                  ) -> VertexLines | None:
-    """The lines anatomy places for a pose that lowers a brow (a frown's), from its
-    compression on the skin per triangle (``squeezed``); None for any other pose. Per vertex
-    only, so the set-up can find them without synthesising a map: the map's furrows and the
-    areas that reveal them come from this one place."""
+    """The lines anatomy places for a pose that lowers a brow (a frown's, between the brows)
+    or squints (crow's feet at the outer corner of the eye), from its compression on the skin
+    per triangle (``squeezed``); None for any other pose. Per vertex only, so the set-up can
+    find them without synthesising a map: the map's furrows and the areas that reveal them
+    come from this one place."""
     corners = mesh.welded_triangles.ravel()
     total = np.bincount(corners, np.repeat(np.asarray(squeezed, np.float64), 3), mesh.n_welded)
-    if not places.lowers_brow(mesh.rest, target, total):
-        return None
     mean = total / np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1)
-    band = places.squeezed_band(mean)
-    window = anatomy.glabella(*places.xyz.T, places.midline, *band)[0]
-    return VertexLines(band, window, placed_region(window, mean))
+    if places.lowers_brow(mesh.rest, target, total):
+        place = partial(anatomy.glabella, midline=places.midline,
+                        **dict(zip(("bottom", "nose"), places.squeezed_band(mean), strict=True)))
+    elif sides := places.squinting_sides(mesh.rest, target, total):
+        place = partial(anatomy.crows_feet, midline=places.midline, sides=sides)
+    else:
+        return None
+    window = place(*places.xyz.T)[0]
+    gain = anatomy.FAN_GAIN if place.func is anatomy.crows_feet else 1.0
+    return VertexLines(place, window, placed_region(window, mean), gain)
 
 
 def placed_lines(project: Project, poses: Sequence[str] | None = None, frame=None
