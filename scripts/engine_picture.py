@@ -43,8 +43,8 @@ def main() -> int:
             plane = plane / max(float(plane.max()), 1.0) * 255.0 if plane.max() > 255 else plane
             areas = ", ".join(a["area"] for a in what.get("areas", [])) or "(none)"
             region = what.get("region", "").split("_", 2)[-1]
-            tiles.append((plane.astype(np.uint8), f"{texture['texture'].removeprefix('T_head_')}.{channel} "
-                          f"{region}\n{areas}"))
+            name = texture["texture"].removeprefix("T_head_")
+            tiles.append((plane.astype(np.uint8), f"{name}.{channel} {region}\n{areas}"))
     columns = 8
     rows = -(-len(tiles) // columns)
     out = Image.new("RGB", (columns * TILE, rows * (TILE + 26)), (24, 24, 28))
