@@ -130,7 +130,9 @@ class PartsBox(QGroupBox):
         hint = QLabel("Not face: eyes, teeth, tongue… keep their shading but never wrinkle "
                       "(a vertex is not face when all its faces are). Ticked to start with: "
                       "parts named so, small closed shells and parts the key poses only move "
-                      "rigidly (hover for why). The key poses are cut like the neutral mesh.")
+                      "rigidly; helpers, hair cards and joint markers start unticked in Keep, "
+                      "as 'new --auto' leaves them out (hover for why). The key poses are cut "
+                      "like the neutral mesh.")
         hint.setWordWrap(True)
         top = QHBoxLayout()
         top.addWidget(QLabel("Parts by"))
