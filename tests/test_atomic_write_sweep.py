@@ -1,11 +1,11 @@
 """What a save leaves behind, and what the next save sweeps away.
 
 A save killed half-way leaves a hidden, locked temporary file (``.NAME.XXXX.tmp``) or a
-backup's staging link (``.NAME.bak.PID.staging``); the next save of the same file removes
-those nobody is writing any more, and nothing else: not another file's temporaries, not one a
-live save holds locked, not a link or a folder that happens to have such a name, not a staging
-link of a process still running. New files get the permissions the umask gives, a replaced
-file keeps its own.
+backup's staging link (``.NAME.bak.PID-START.staging``: its process id and start time); the
+next save of the same file removes those nobody is writing any more, and nothing else: not
+another file's temporaries, not one a live save holds locked, not a link or a folder that
+happens to have such a name, not a staging link of a process still running. New files get the
+permissions the umask gives, a replaced file keeps its own.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from studio.core.files.atomic_write import (
     write_atomic,
 )
 from studio.core.files.errors import StudioError
+from studio.core.files.processes import process_tag, tag_alive
 
 pytestmark = pytest.mark.core
 
@@ -96,3 +97,40 @@ def test_a_write_names_what_it_could_not_write(tmp_path: Path) -> None:
     assert caught.value.problem.startswith("cannot write the file: ")
     write_atomic(tmp_path / "made" / "a.bin", b"1", make_folders=True)
     assert (tmp_path / "made" / "a.bin").read_bytes() == b"1"
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc (Linux)")
+def test_a_live_process_that_reused_a_dead_saves_id_does_not_keep_its_staging_link(
+        tmp_path: Path) -> None:
+    """The staging link shares its inode with the project, so later saves' links renew its
+    ctime: the dead save's id, now a running process's, must not keep the link. The start time
+    in its name tells them apart."""
+    tag = process_tag()
+    pid, _, ticks = tag.partition("-")
+    reused = touch(tmp_path, f".face.wrinkle.bak.{pid}-{int(ticks) + 1}.staging")
+    earlier = touch(tmp_path, f".face.wrinkle.bak.{pid}-{int(ticks) - 1}.staging")
+    mine = touch(tmp_path, f".face.wrinkle.bak.{tag}.staging")
+    live = touch(tmp_path, f".face.wrinkle.bak.1-{_init_ticks()}.staging")
+    assert sorted(stale_backup_staging(tmp_path, NAME)) == sorted([str(reused), str(earlier)])
+    assert tag_alive(f"{DEAD_PID}-5") is False and tag_alive("12x") is None
+    remove_stale_temps(tmp_path, NAME)
+    assert mine.exists() and live.exists() and not reused.exists()
+
+
+def _init_ticks() -> int:
+    return int(Path("/proc/1/stat").read_text().rsplit(")", 1)[1].split()[19])
+
+
+def test_a_save_names_its_staging_link_with_its_process_start(tmp_path: Path,
+                                                               monkeypatch) -> None:
+    from studio.core.project import writer
+
+    target = tmp_path / NAME
+    target.write_bytes(b"old")
+    seen: list[str] = []
+    real_replace = os.replace
+    monkeypatch.setattr(writer.os, "replace",
+                        lambda a, b: (seen.append(Path(a).name), real_replace(a, b)))
+    writer.keep_backup(target)
+    assert seen == [f".{NAME}.bak.{process_tag()}.staging"]
+    assert (tmp_path / f"{NAME}.bak").read_bytes() == b"old"

@@ -23,7 +23,7 @@ except ImportError:  # pragma: no cover - Windows
     fcntl = None  # type: ignore[assignment]
 
 from studio.core.files.errors import StudioError
-from studio.core.files.processes import process_alive
+from studio.core.files.processes import process_tag, tag_alive
 from studio.core.files.safe_io import check_path_text, make_folder, os_reason
 
 
@@ -139,9 +139,8 @@ def stale_backup_staging(folder: Path, name: str) -> list[str]:
         for entry in os.scandir(folder):
             if not (entry.name.startswith(prefix) and entry.name.endswith(".staging")):
                 continue
-            pid = entry.name[len(prefix):-len(".staging")]
-            if pid.isdigit() and int(pid) != os.getpid() and not process_alive(
-                    int(pid), entry.stat().st_ctime):
+            tag = entry.name[len(prefix):-len(".staging")]
+            if tag != process_tag() and tag_alive(tag, entry.stat().st_ctime) is False:
                 stale.append(entry.path)
     return stale
 

@@ -23,6 +23,7 @@ from studio.core.files.atomic_write import atomic_output
 from studio.core.files.budgets import check_json_depth
 from studio.core.files.errors import ProjectError
 from studio.core.files.png import encode_png
+from studio.core.files.processes import process_tag
 from studio.core.project.mask_store import mask_members
 from studio.core.project.model import Project
 from studio.core.project.schema import (
@@ -78,7 +79,7 @@ def keep_backup(target: Path) -> None:
     if not target.is_file():
         return
     bak = backup_path(target)
-    staging = bak.with_name(f".{bak.name}.{os.getpid()}.staging")
+    staging = bak.with_name(f".{bak.name}.{process_tag()}.staging")
     with contextlib.suppress(OSError):
         os.unlink(staging)
     try:
