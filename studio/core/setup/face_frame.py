@@ -8,10 +8,16 @@ names need the face's own frame, found here from the geometry and the key poses:
   a neck carried along by a jaw opening is translated, not deformed, and stays out.
 - **Up**: given (``--up``), else from poses whose names say which way they move the skin
   (``browInnerUp`` up, ``jawOpen`` down, …: their mean motion, snapped to an axis when within
-  30°), else the longer of the Y and Z extents (the two conventions in use).
+  30°), else the longer of the Y and Z extents (the two conventions in use); corrected across
+  the way the face looks by its left–right symmetry; and, last, confirmed or overruled by
+  the eyes above the nose tip (``face_features``: anatomy, which neither names, extents nor
+  windings can mislead; not claimed where unclear).
 - **Front**: the way the face region's surface faces (area-weighted normals, left and right
   cancel), checked against where the face region sits on the head (a face is at its front; a
-  file whose normals point inward is caught there).
+  file whose normals point inward is caught there); without poses, the convention of the up
+  axis; either confirmed or overruled by the nose tip ahead of the eyes.
+
+The notes (``how``) say what decided each axis, and when the eyes and nose agreed.
 - **Left** = up × front: the character's own left (+X for the bundled sample).
 
 Every threshold is relative to the face's own size or motion, never in model units.
@@ -29,6 +35,7 @@ from studio.core.animation.pose_names import canonical
 from studio.core.files.errors import StudioError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.face_regions import region_name
+from studio.core.setup.face_features import FaceFeatures, asymmetry, find_face_features
 
 Array = np.ndarray
 
@@ -39,7 +46,6 @@ DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation i
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
 BODY_HEIGHTS = 4.0  # skin this many face boxes tall is a body, not a head and neck …
 HEAD_REACH = (1.8, (-1.5, 1.8), 2.6)  # … whose skin past these (face |x|, y, |z|) is not face
-SYMMETRY_SAMPLE = 600  # points of the face region compared with their mirror image
 MANY_POSES = 10  # in a rig of this many poses or more, the face ends below where two of them …
 SHARED_LEAST = 0.25  # … deform the skin, unless that is under a quarter of what any of them does
 
@@ -243,6 +249,11 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     if poses:
         face, chin_region = _face_region(_deformations(rest, poses, _edges(triangles)), skin)
 
+    # the eyes and the nose tip: anatomy, which no name, extent or winding can mislead
+    features = None
+    if up is None or front is None:
+        features = _features(rest, triangles, skin, face)
+
     # up
     if up is not None:
         up_vec = parse_axis(up)
@@ -257,6 +268,12 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
             across = _up_across_facing(rest, triangles, face, skin, up_vec)
             if across is not None:
                 up_vec, reason = across
+        if features is not None:
+            if np.allclose(features.up, up_vec):
+                reason += "; the eyes above the nose agree"
+            else:
+                up_vec = features.up
+                reason = f"the eyes above the nose ({features.eyes_from}); give --up to choose"
         notes.append(f"up {axis_name(up_vec)} ({reason})")
 
     # front
@@ -277,6 +294,12 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
         region = _front_guess(rest, skin, up_vec)
         front_vec, reason = _conventional_front(up_vec)
         notes.append("no key pose deforms the skin: the face is taken to be the upper skin")
+    if (given_front is None and features is not None
+            and abs(float(np.dot(features.front, up_vec))) < 1e-9):
+        if np.allclose(features.front, front_vec):
+            reason += "; the nose ahead of the eyes agrees"
+        else:
+            front_vec, reason = features.front, "the nose ahead of the eyes"
     notes.append(f"front {axis_name(front_vec)} ({reason})")
     left_vec = np.cross(up_vec, front_vec)
     left_vec /= np.linalg.norm(left_vec)
@@ -331,16 +354,17 @@ def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], sk
     return axes[best], f"from the motion of {shown}"
 
 
-def _asymmetry(points: Array, axis: Array) -> float:
-    """How far the points are from mirror-symmetric across the plane at right angles to
-    ``axis`` through their middle: the mean distance from each mirrored point to the nearest
-    point (a sample of at most ``SYMMETRY_SAMPLE``)."""
-    if len(points) > SYMMETRY_SAMPLE:
-        points = points[np.linspace(0, len(points) - 1, SYMMETRY_SAMPLE).astype(int)]
-    along = points @ axis
-    mirrored = points - 2.0 * np.outer(along - np.median(along), axis)
-    gaps = np.linalg.norm(mirrored[:, None, :] - points[None, :, :], axis=2)
-    return float(gaps.min(axis=1).mean())
+def _features(rest: Array, triangles: Array, skin: Array, face: Array) -> FaceFeatures | None:
+    """The eyes and nose tip, looked for around the skin the poses deform (its size sets the
+    scale: a body's nose is small beside the body), then over all the skin (a blink deforms
+    too little of the face to show its size). Over all the skin, eye sockets are not taken:
+    hollows are everywhere on a body (between the legs, a pair beside a buttock's bump), and
+    without poses nothing says where the face is; eye parts and eye openings are."""
+    if face.sum() >= 3:
+        found = find_face_features(rest, triangles, skin, face)
+        if found is not None:
+            return found
+    return find_face_features(rest, triangles, skin, sockets=False)
 
 
 def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, up: Array
@@ -364,7 +388,7 @@ def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, u
     across = [np.array(a, np.float64) for a in ((1, 0, 0), (0, 1, 0), (0, 0, 1))
               if abs(np.dot(a, facing)) < 1e-9]
     points = rest[skin] if skin.any() else rest
-    left = min(across, key=lambda axis: _asymmetry(points, axis))
+    left = min(across, key=lambda axis: asymmetry(points, axis))
     up_vec = next(a for a in across if a is not left)
     return up_vec, (f"across the way the face looks ({axis_name(facing)}) and its left–right "
                     "symmetry; give --up to choose")
