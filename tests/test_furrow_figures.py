@@ -10,7 +10,14 @@ with none: the luminance difference d, its gradients gx, gy over the pixels wher
   wide as the gap between the inner ends of the brows (landmarks 21 and 22) and from the bridge
   of the nose (landmark 28) up to one and a half gaps above the brows;
 - **temple side**: the share of a left squint's changed pixels beyond the outer corner of the
-  left eye (landmark 45), toward the temple: its crow's feet.
+  left eye (landmark 45), toward the temple: its crow's feet;
+- **on the fold**: the share of a left smile's changed pixels near its nasolabial fold (from
+  the wing of the nose, landmark 35, down past the mouth corner, 54), and **under the eye**
+  (below the left eye's lower lid, 46 and 47): where an artist paints a smile; and the fold's
+  **slant**, how far (degrees) the long axis of the change there turns from the line nose
+  wing → mouth corner;
+- **marionette**: the share of a left mouth frown's changed pixels in the box below the left
+  mouth corner (54), down to the chin's height (8) and out to the jaw line.
 
 On the bundled sample (the ICT-FaceKit head, 17 wrinkling poses on four maps), on the head the
 tests build in production conventions (millimetres, Z up, UDIM tiles, separate eyes and teeth)
@@ -53,6 +60,10 @@ class Figures:
     coherence: float
     between_brows: float  # share of the changed pixels in the glabella's box (nan: no box)
     temple_side: float = float("nan")  # … and beyond the left eye's outer corner
+    fold: float = float("nan")  # … near the left nasolabial fold
+    under_eye: float = float("nan")  # … under the left eye's lower lid
+    slant: float = float("nan")  # degrees between the change near the fold and its line
+    marionette: float = float("nan")  # … below the left mouth corner
 
 
 def luminance(image: np.ndarray) -> np.ndarray:
@@ -60,7 +71,7 @@ def luminance(image: np.ndarray) -> np.ndarray:
 
 
 def furrow_figures(posed: np.ndarray, plain: np.ndarray, box: np.ndarray | None = None,
-                   temple: np.ndarray | None = None) -> Figures:
+                   temple: np.ndarray | None = None, places: Places | None = None) -> Figures:
     """The issue's figures of what a technique changes (``posed`` against ``plain``)."""
     d = luminance(posed) - luminance(plain)
     gy, gx = np.gradient(d)
@@ -71,9 +82,64 @@ def furrow_figures(posed: np.ndarray, plain: np.ndarray, box: np.ndarray | None 
     def share(where: np.ndarray | None) -> float:
         return float((on & where).sum() / max(on.sum(), 1)) if where is not None else float("nan")
 
-    return Figures(float(yy / max(xx, 1e-12)),
-                   float(np.sqrt((xx - yy) ** 2 + 4.0 * xy * xy) / total), share(box),
-                   share(temple))
+    figures = Figures(float(yy / max(xx, 1e-12)),
+                      float(np.sqrt((xx - yy) ** 2 + 4.0 * xy * xy) / total), share(box),
+                      share(temple))
+    if places is not None:
+        figures.fold, figures.under_eye, figures.marionette = (
+            share(places.fold), share(places.under_eye), share(places.marionette))
+        figures.slant = line_slant(d, on & places.fold, places.fold_direction)
+    return figures
+
+
+def line_slant(d: np.ndarray, where: np.ndarray, direction: np.ndarray) -> float:
+    """Degrees between the long axis of a change over ``where`` (the principal axis of its
+    pixels, weighted by |d|: a fold is a long, narrow mark) and ``direction``."""
+    yy, xx = np.nonzero(where)
+    if xx.size < 3:
+        return float("nan")
+    w = np.abs(d[yy, xx])
+    points = np.c_[xx, yy] - np.average(np.c_[xx, yy], axis=0, weights=w)
+    cov = (points * w[:, None]).T @ points
+    axis = np.linalg.eigh(cov)[1][:, -1]
+    turn = np.degrees(abs(np.arctan2(axis[1], axis[0]) - np.arctan2(direction[1], direction[0])))
+    turn %= 180.0
+    return float(min(turn, 180.0 - turn))
+
+
+@dataclass
+class Places:
+    """Where an artist paints a left smile's fold and bunching and a left mouth frown's line,
+    from the landmarks' pixels."""
+
+    fold: np.ndarray  # (SIZE, SIZE) bool
+    fold_direction: np.ndarray  # (2,) pixels: nose wing → mouth corner
+    under_eye: np.ndarray
+    marionette: np.ndarray
+
+    @classmethod
+    def of(cls, pixels: np.ndarray) -> Places:
+        """The fold's band: along the line from the nose wing to the mouth corner (35 → 54,
+        from a third of its length above the wing to 40 % past the corner), from a sixth of
+        its length inside it to 60 % outside, where the cheek folds over the corner. Under
+        the eye: from the lower lid (46, 47) down a lid's width, between the eye's corners
+        (42, 45). The marionette box: from the mouth corner (54) down to the chin's height
+        (8), from half the corner's distance to the midline (51) inside it to as far out."""
+        yy, xx = np.mgrid[0:SIZE, 0:SIZE].astype(np.float64)
+        wing, corner = pixels[35], pixels[54]
+        axis = corner - wing
+        length = float(np.hypot(*axis))
+        u = ((xx - wing[0]) * axis[0] + (yy - wing[1]) * axis[1]) / length ** 2
+        v = ((xx - wing[0]) * axis[1] - (yy - wing[1]) * axis[0]) / length  # >0: outward
+        fold = (u >= -0.3) & (u <= 1.4) & (v >= -length / 6.0) & (v <= 0.6 * length)
+        lid = max(pixels[46, 1], pixels[47, 1])
+        width = abs(pixels[45, 0] - pixels[42, 0])
+        under = ((xx >= pixels[42, 0]) & (xx <= pixels[45, 0] + 0.25 * width)
+                 & (yy >= lid) & (yy <= lid + 0.6 * width))
+        half = abs(corner[0] - pixels[51, 0]) * 0.5
+        marionette = ((xx >= corner[0] - half) & (xx <= corner[0] + half)
+                      & (yy >= corner[1] - 0.1 * half) & (yy <= pixels[8, 1]))
+        return cls(fold, axis / length, under, marionette)
 
 
 def glabella_box(pixels: np.ndarray) -> np.ndarray:
@@ -96,7 +162,8 @@ def temple_side(pixels: np.ndarray) -> np.ndarray:
 def front_figures(project: Project, poses: dict[str, tuple[str, ...]],
                   techniques: tuple[str, ...] = ("t2",), marks: np.ndarray | None = None
                   ) -> dict[tuple[str, str], Figures]:
-    """{(expression, technique): figures} from front-view renders of these expressions."""
+    """{(expression, technique): figures} from front-view renders of these expressions;
+    ``marks``: the 68 landmarks' vertices, for the figures that need them."""
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
 
@@ -104,16 +171,21 @@ def front_figures(project: Project, poses: dict[str, tuple[str, ...]],
     with OffscreenStudio(project, SIZE, SIZE) as studio:
         aim(studio.camera, project, "face")
         studio.camera.yaw = 0.0
-        box = temple = None
+        box = temple = places = None
         if marks is not None:
-            pixels = studio.camera.project(marks, SIZE, SIZE)[0]
+            pixels = studio.camera.project(project.mesh.rest[marks], SIZE, SIZE)[0]
             box, temple = glabella_box(pixels), temple_side(pixels)
         for name, pose_names in poses.items():
             weights = dict.fromkeys(pose_names, 1.0)
+            if marks is not None:  # the mouth and cheek move far: their places, posed
+                posed_marks = project.mesh.rest[marks] + sum(
+                    project.pose(p).positions[marks] - project.mesh.rest[marks]
+                    for p in pose_names)
+                places = Places.of(studio.camera.project(posed_marks, SIZE, SIZE)[0])
             plain = studio.render(RenderSettings(technique="none"), weights)
             for technique in techniques:
                 posed = studio.render(RenderSettings(technique=technique), weights)
-                out[name, technique] = furrow_figures(posed, plain, box, temple)
+                out[name, technique] = furrow_figures(posed, plain, box, temple, places)
     return out
 
 
@@ -122,9 +194,9 @@ def sample() -> dict[tuple[str, str], Figures]:
     project = sample_project()
     poses = {"browInnerUp_L": ("browInnerUp_L",), "surprise": SURPRISE,
              "browDown_L": ("browDown_L",), "browDown_R": ("browDown_R",), "frown": FROWN,
-             "mouthSmile_L": ("mouthSmile_L",), "eyeSquint_L": ("eyeSquint_L",)}
-    return front_figures(project, poses, ("t2", "t1"),
-                         project.mesh.rest[landmark_vertices()])
+             "mouthSmile_L": ("mouthSmile_L",), "eyeSquint_L": ("eyeSquint_L",),
+             "mouthFrown_L": ("mouthFrown_L",)}
+    return front_figures(project, poses, ("t2", "t1"), landmark_vertices())
 
 
 def test_the_sample_s_brow_raise_draws_long_lines_across_the_forehead(sample) -> None:
@@ -161,13 +233,38 @@ def test_the_sample_s_smile_stays_orderly(sample) -> None:
 
 
 def test_a_squint_draws_crow_s_feet_beside_the_outer_corner_of_the_eye(sample) -> None:
-    """A squint's lines fan out from the outer corner of the eye over the temple side only,
-    where it squeezes the skin, none on the eye nor back toward the nose: measured 100 % of its
-    change beyond the corner with either technique (``temple_side``). 46 % (t2) and 32 % (t1)
-    before, when furrows across its compression crossed under the eye."""
+    """A squint's lines fan out from the outer corner of the eye over the temple side, where it
+    squeezes the skin, none on the eye nor back toward the nose, and two shallower ones follow
+    the lower lid under the eye, which the squint pushes up: measured 67 / 68 % of its change
+    beyond the corner (t2 / t1, ``temple_side``) and 26 % under the eye (100 % beyond the
+    corner with the fan alone, which left an avatar maker's lid squint at 0.7 % of the render).
+    46 % (t2) and 32 % (t1) beyond the corner before issue 38's second round, when furrows
+    across its compression crossed under the eye."""
     for technique in ("t2", "t1"):
         f = sample["eyeSquint_L", technique]
-        assert f.temple_side >= 0.9, (technique, f)
+        assert f.temple_side >= 0.5 and f.temple_side + f.under_eye >= 0.85, (technique, f)
+
+
+def test_a_smile_draws_one_nasolabial_fold_and_bunches_the_cheek_under_the_eye(sample) -> None:
+    """A left smile: one deep fold from the wing of the nose down past the mouth corner, along
+    that line, and two short lines where the cheek bunches under the eye — where an artist
+    paints a smile — not parallel lines over the whole cheek. Measured 46 / 49 % of its
+    change on the fold (t2 / t1) and 28 / 29 % under the eye, the fold's long axis 8° / 6° off
+    the line nose wing → mouth corner; 13 % on the fold and 3 % under the eye (t2) before."""
+    for technique in ("t2", "t1"):
+        f = sample["mouthSmile_L", technique]
+        assert f.fold >= 0.4 and f.fold + f.under_eye >= 0.7, (technique, f)
+        assert f.slant <= 25.0, (technique, f)
+
+
+def test_a_mouth_frown_draws_a_short_marionette_line_only(sample) -> None:
+    """A left mouth frown (the sample's frown expression pulls both corners down): at most a
+    short line down from the mouth corner, what an artist paints, not lines radiating around
+    the mouth. Measured 94 % of its change in the box below the corner (t2 and t1); 36 %
+    (t2) before, for the lines around the mouth."""
+    for technique in ("t2", "t1"):
+        f = sample["mouthFrown_L", technique]
+        assert f.marionette >= 0.8, (technique, f)
 
 
 def production_project(folder: Path, vertices: int) -> Project:

@@ -1,5 +1,6 @@
 """Where an artist puts a pose's lines, from the face's anatomy: the glabellar lines of a frown,
-the crow's feet of a squint.
+the crow's feet of a squint, the nasolabial fold of a smile, the marionette line of a mouth
+frown.
 
 The furrows of ``wrinkle_synth`` follow each pose's own compression, which is what makes them
 work on any head. A rig's brow lowerer, though, squeezes the whole brow and the lower forehead
@@ -17,6 +18,16 @@ across that compression cross under the eye and radiate both ways from a point �
 artist paints crow's feet: three to five lines fanning out from the outer corner of the eye
 over the temple side only, none on the eye (``crows_feet``).
 
+A smile (the mouth corner pulled up and out) squeezes the whole cheek, and furrows across
+that compression are parallel lines over the cheek — where an artist paints one deep
+nasolabial fold, from the wing of the nose down and out to beside the mouth corner, and the
+cheek bunching under the eye in a line or two below the lower lid. A mouth frown (the corner
+pulled down and out) squeezes the skin around the corner, and furrows across it radiate around
+the mouth like hairs — where an artist paints at most a short marionette line down from the
+corner. Both are one fold along an anatomical line (``fold``), bent toward where *this* pose
+squeezes the skin most near that line and as deep as it squeezes it there (``fold_path``): a
+fold placed by anatomy alone missed the squeezed skin of heads whose crease lies elsewhere.
+
 Places are in face coordinates (``FacePlaces``: x toward the character's left, y up, z to
 the front, from the tip of the nose, in the face box's half width), with anchors measured on
 the ICT-FaceKit head's 68 landmarks (inner brows 0.167 either side of the midline, 1.27 above
@@ -31,6 +42,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from studio.core.wrinkles.skin_strain import WRINKLING_COMPRESSION
 
 Array = np.ndarray
 
@@ -76,6 +89,8 @@ FAN_EDGE = 10.0  # … fading over this much …
 FAN_SPACING = 25.0  # … a line every this many degrees, …
 FAN_FIRST = -60.0  # … the lowest here, …
 FAN_GAIN = 1.5  # … this much deeper than a frown's lines: few, on skin the squint barely squeezes
+LID_ANGLES = (-125.0, -80.0)  # and two lines under the lower lid (``lower_lid_lines``), clear
+LID_GAIN = 1.0  # of the fan's lowest lines, shallower than them
 
 
 @dataclass(frozen=True)
@@ -174,10 +189,15 @@ class FacePlaces:
 
     def _up(self, rest: Array) -> Array:
         """The model direction of face y, fitted from the vertices (y is linear in position)."""
+        return self._axis(rest, 1)
+
+    def _axis(self, rest: Array, k: int) -> Array:
+        """The model direction of face axis ``k`` (0: x, 1: y, 2: z), fitted from the
+        vertices (face coordinates are linear in position)."""
         points = np.c_[np.asarray(rest, np.float64), np.ones(len(rest))]
-        solution, *_ = np.linalg.lstsq(points, self.xyz[:, 1].astype(np.float64), rcond=None)
-        up = solution[:3]
-        return up / max(float(np.linalg.norm(up)), 1e-300)
+        solution, *_ = np.linalg.lstsq(points, self.xyz[:, k].astype(np.float64), rcond=None)
+        axis = solution[:3]
+        return axis / max(float(np.linalg.norm(axis)), 1e-300)
 
 
 def on_face(box_y: Array) -> Array:
@@ -230,8 +250,10 @@ def crows_feet(x: Array, y: Array, z: Array, midline: float,
     per-vertex arrays of them), beside the outer corner of the eye on the ``sides`` it
     squints (``FacePlaces.squinting_sides``): lines radiating from the corner outward only,
     ``FAN_SPACING`` degrees apart over ``FAN_ANGLES``, from ``FAN_START`` (off the lids) to
-    ``FAN_END`` from the corner. The phase runs around the corner (a line's bottom at each
-    multiple of 2π)."""
+    ``FAN_END`` from the corner; and two shallower lines under the lower lid, along it
+    (``LID_ANGLES``), where a squint that pushes the lid up bunches the skin below it — all
+    an avatar maker's lid squint squeezes, its outer corner hardly. The phase runs around the
+    corner (a line's bottom at each multiple of 2π), and down from the lid under it."""
     del z  # the temple faces sideways, the lids forward: both hold crow's feet
     side = np.where(x - midline >= 0.0, 1.0, -1.0)
     dx = side * (x - midline) - OUTER_EYE[0]  # outward from the corner
@@ -245,4 +267,223 @@ def crows_feet(x: Array, y: Array, z: Array, midline: float,
               * _smoothstep(high + FAN_EDGE, high - FAN_EDGE, angle)
               * np.isin(side, sides))
     phase = 2.0 * np.pi * (angle - FAN_FIRST) / FAN_SPACING
+    lids, lid_phase, near = lower_lid_lines(side * (x - midline), y, LID_ANGLES, LID_GAIN)
+    lids = lids * np.isin(side, sides)
+    phase = np.where(near & ~(window > 0.0), lid_phase, phase)
+    window = np.maximum(window, lids)
+    return window.astype(np.float32), phase.astype(np.float32)
+
+
+# --- the lower face: a smile's nasolabial fold and cheek bunching, a mouth frown's marionette
+# line. Anchors on the ICT-FaceKit head's landmarks (face x on the character's left, y): the
+# wing of the nose (35) at (0.18, −0.18), the mouth corner (54) at (0.36, −0.51), the left eye's
+# lower lid (46, 47) at y 0.42 between x 0.39 and 0.55.
+NASOLABIAL = ((0.23, -0.08), (0.47, -0.62))  # from above the wing of the nose to beside and
+# below the mouth corner: where an artist paints the nasolabial fold …
+MARIONETTE = ((0.39, -0.56), (0.47, -0.86))  # … and a marionette line, down from the corner
+FOLD_REACH = 0.12  # the fold follows the pose's strongest compression this far either side …
+FOLD_BINS = 10  # … found over this many stretches along it …
+FOLD_POWER = 3.0  # … weighting the compression by this power (its strongest, not its spread)
+FOLD_WIDTH = (0.14, 0.4)  # one valley this wide (face x) inside and outside its bottom: a
+# single deep fold, steep toward the mouth and the cheek rolling over it, no second one beside it
+FLAT_BEYOND = 0.02  # past its rims the phase rises this much as steeply: the skin stays flat
+FOLD_ENDS = (0.1, 0.2)  # fading in over this share of its length, out over this share
+FOLD_FACING = -1.0  # on skin in front of this (face z): the face, not the ear nor the scalp
+FOLD_GAIN = 3.0  # a nasolabial fold, deeper than a frown's lines: the smile's deepest …
+MARIONETTE_GAIN = 0.8  # … a marionette line, shallower and shorter
+LOWER_LID = (0.45, 0.47, 0.3, 0.17)  # the lower lid's arc: centre (face x, y), half width and
+# depth of an ellipse whose bottom lies where the cheek bunches under the eye …
+BUNCH_SPACING = 0.08  # … and a second line this much lower (face y) …
+BUNCH_ANGLES = (-125.0, -60.0)  # … under the eye (degrees from outward, down negative) …
+BUNCH_EDGE = 15.0  # … fading over this much …
+BUNCH_GAIN = 0.25  # … shallower than the fold (relative to it)
+BUNCH_MARGIN = 0.3  # their phase holds this many spacings (and 30°) beyond their window
+SMILE_REACH = 0.25  # a pose compresses the skin this close to the nasolabial line …
+SMILE_SHARE = 0.35  # … by this share of its compression …
+SMILE_UP = 0.45  # … moving it up by this share of its motion (a mouth frown: down) …
+SMILE_OUT = 0.35  # … and outward by this share: on the ICT head a smile 0.68 and 0.51, a frown
+# −0.84 and 0.41; not a dimple (0.52, 0.23), the mouth moved aside (0.38, 0.80), a stretch
+# (−0.19, 0.78), the lower lip pulled down (−0.86, 0.29), a sneer (0.97, −0.07)
+
+
+def _segment(dx: Array, y: Array, line: tuple[tuple[float, float], tuple[float, float]]
+             ) -> tuple[Array, Array]:
+    """(u, v): how far along a line from its start (0) to its end (1), and how far from it,
+    outward positive (face x units), for points at ``dx`` (outward from the midline) and ``y``."""
+    (x0, y0), (x1, y1) = line
+    ax, ay = x1 - x0, y1 - y0
+    length = float(np.hypot(ax, ay))
+    ex, ey = ax / length, ay / length
+    px, py = dx - x0, y - y0
+    u = (px * ex + py * ey) / length
+    v = py * ex - px * ey  # to the left of a line running down and out: outward
+    return u, v
+
+
+def mouth_sides(places: FacePlaces, rest: Array, target: Array, compression: Array,
+                line: tuple[tuple[float, float], tuple[float, float]], up: bool
+                ) -> tuple[float, ...]:
+    """The sides (−1, 1: face x) on which a pose pulls the mouth corner along ``line`` (on that
+    side): ``SMILE_SHARE`` of its compression (``compression`` per vertex) lies within
+    ``SMILE_REACH`` of the line, and that skin moves up (``up``: a smile, bunching the cheek
+    against the nose's wing) or down (a mouth frown) by ``SMILE_UP`` of its motion and outward
+    by ``SMILE_OUT``. Empty for any other pose: a sneer lifts the skin beside the nose without
+    pulling it out, a dimple pulls the corner back, a stretch or the mouth moved aside pull it
+    sideways, a pucker or a mentalis push squeeze the lips and chin toward the midline."""
+    weight = np.asarray(compression, np.float64)
+    total = weight.sum()
+    if total <= 0.0:
+        return ()
+    x, y, z = places.xyz.astype(np.float64).T
+    motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
+    rise = motion @ places._up(rest) * (1.0 if up else -1.0)
+    across = motion @ places._axis(rest, 0)
+    size = np.linalg.norm(motion, axis=1)
+    length = float(np.hypot(line[1][0] - line[0][0], line[1][1] - line[0][1]))
+    sides = []
+    for side in (-1.0, 1.0):
+        u, v = _segment(side * (x - places.midline), y, line)
+        beyond = (np.clip(u, 0.0, 1.0) - u) * length  # past the line's ends
+        near = (np.hypot(beyond, v) < SMILE_REACH) & (z > FOLD_FACING)
+        share = float(weight[near].sum()) / total
+        moved = float(weight[near] @ size[near])
+        if share >= SMILE_SHARE and moved > 0.0 and (
+                float(weight[near] @ rise[near]) >= SMILE_UP * moved
+                and side * float(weight[near] @ across[near]) >= SMILE_OUT * moved):
+            sides.append(side)
+    return tuple(sides)
+
+
+@dataclass(frozen=True)
+class FoldPath:
+    """Where one pose's fold lies on this head and how deep, per side (0: the character's
+    right, 1: left) and per stretch along its line (``FOLD_BINS``): from the pose's own
+    compression (``fold_path``)."""
+
+    offsets: Array  # (2, FOLD_BINS) face x: how far out of the line the fold's bottom lies
+    depths: Array  # (2, FOLD_BINS) in [0, 1]: its depth there
+    bunch: Array  # (2,) in [0, 1]: the depth of the cheek's bunching under the eye
+
+
+def fold_path(places: FacePlaces, compression: Array, sides: tuple[float, ...],
+              line: tuple[tuple[float, float], tuple[float, float]]) -> FoldPath:
+    """The fold's path on this head: for each of ``FOLD_BINS`` stretches along ``line``, how
+    far out (face x) the pose squeezes the skin most within ``FOLD_REACH`` of it (its
+    compression to the power ``FOLD_POWER`` as weights; 0 where it squeezes none), so the fold
+    lies on *this* head's crease, not only on the anatomy's average one; and how deep, from
+    that strong compression (full from ``WRINKLING_COMPRESSION``, none below a quarter of it)
+    — along the fold only, so its edges stay smooth where the compression beside it is
+    patchy. Both smoothed along the line, so the fold bends and fades gently. The cheek's
+    bunching under the eye is as deep as the pose squeezes the skin there."""
+    x, y, z = places.xyz.astype(np.float64).T
+    squeeze = np.asarray(compression, np.float64) * (z > FOLD_FACING)
+    weight = squeeze ** FOLD_POWER
+    offsets, depths, bunch = np.zeros((2, FOLD_BINS)), np.zeros((2, FOLD_BINS)), np.zeros(2)
+    for k, side in enumerate((-1.0, 1.0)):
+        if side not in sides:
+            continue
+        dx = side * (x - places.midline)
+        u, v = _segment(dx, y, line)
+        near = (np.abs(v) < FOLD_REACH) & (u >= 0.0) & (u < 1.0)
+        at = np.clip((u[near] * FOLD_BINS).astype(int), 0, FOLD_BINS - 1)
+        w = weight[near]
+        total = np.bincount(at, w, FOLD_BINS)
+        known = total > 1e-3 * max(float(total.max(initial=0.0)), 1e-300)
+        safe = np.maximum(total, 1e-300)
+        offset = np.where(known, np.bincount(at, w * v[near], FOLD_BINS) / safe, 0.0)
+        strong = np.where(known, np.bincount(at, w * squeeze[near], FOLD_BINS) / safe, 0.0)
+        offsets[k] = np.clip(_along(offset), -0.8 * FOLD_REACH, 0.8 * FOLD_REACH)
+        depths[k] = _along(_ramp(strong))
+        cx, cy, a, b = LOWER_LID
+        rho = np.hypot((dx - cx) / a, (y - cy) / b)
+        under = (rho > 1.0 - 0.5 * BUNCH_SPACING / b) & (rho < 1.0 + 2.0 * BUNCH_SPACING / b) & (
+            y < cy) & (z > FOLD_FACING)
+        if under.any():
+            w = weight[under]
+            bunch[k] = _ramp(float(w @ squeeze[under]) / max(float(w.sum()), 1e-300))
+    return FoldPath(offsets, depths, bunch)
+
+
+def _ramp(compression: Array | float) -> Array:
+    """0 below a quarter of ``WRINKLING_COMPRESSION``, 1 from it on: a signature line is as
+    deep as an artist paints it wherever the pose squeezes the skin at all."""
+    return np.clip((np.asarray(compression) - 0.25 * WRINKLING_COMPRESSION)
+                   / (0.75 * WRINKLING_COMPRESSION), 0.0, 1.0)
+
+
+def _along(values: Array) -> Array:
+    """Smoothed along a line's stretches ([1, 2, 1] twice, the ends held)."""
+    for _ in range(2):
+        values = np.r_[values[0], 0.25 * values[:-2] + 0.5 * values[1:-1] + 0.25 * values[2:],
+                       values[-1]]
+    return values
+
+
+def _one_valley(t: Array) -> Array:
+    """A phase of one valley only: 2π per unit of ``t`` from −½ to ½ (the valley's bottom at
+    0, its rims at ±π), then barely rising (``FLAT_BEYOND`` as steep), so the valley profile
+    stays at its rim's 0 — one fold whose walls fade smoothly into the skin beside it, with
+    no second valley and no edge for the window to cut — while the phase's gradient still
+    points across the fold."""
+    rim = np.clip(t, -0.5, 0.5)
+    return 2.0 * np.pi * (rim + FLAT_BEYOND * (t - rim))
+
+
+def lower_lid_lines(dx: Array, y: Array, angles: tuple[float, float], gain: Array | float
+                    ) -> tuple[Array, Array, Array]:
+    """(window, phase, support) for two short lines under the lower lid, along its arc
+    (``LOWER_LID``: at the arc's bottom and ``BUNCH_SPACING`` below it, then flat skin), over
+    ``angles`` (degrees around the eye's centre from outward, down negative), at ``gain``;
+    from images of face x outward from the midline (``dx``) and y. The support is where the
+    phase must be theirs: their window and ``BUNCH_MARGIN`` beyond it, so that another
+    line's phase meets theirs only where neither draws — a resampled phase that mixes two
+    cannot draw a line there."""
+    cx, cy, a, b = LOWER_LID
+    ex, ey = (dx - cx) / a, (y - cy) / b
+    below = (np.hypot(ex, ey) - 1.0) * b  # how far below the lid's arc (face y, about)
+    angle = np.degrees(np.arctan2(ey, ex))
+    low, high = angles
+    window = (gain * _smoothstep(low - BUNCH_EDGE, low + BUNCH_EDGE, angle)
+              * _smoothstep(high + BUNCH_EDGE, high - BUNCH_EDGE, angle)
+              * _smoothstep(-BUNCH_SPACING, -0.5 * BUNCH_SPACING, below)
+              * _smoothstep(2.0 * BUNCH_SPACING, 1.5 * BUNCH_SPACING, below))
+    margin = BUNCH_MARGIN * BUNCH_SPACING
+    support = ((angle > low - BUNCH_EDGE - BUNCH_MARGIN * 100.0)
+               & (angle < high + BUNCH_EDGE + BUNCH_MARGIN * 100.0)
+               & (below > -BUNCH_SPACING - margin) & (below < 2.0 * BUNCH_SPACING + margin))
+    phase = _one_valley(0.5 * (below / BUNCH_SPACING - 0.5)) * 2.0 + np.pi
+    return window, phase, support
+
+
+def fold(x: Array, y: Array, z: Array, midline: float, sides: tuple[float, ...],
+         line: tuple[tuple[float, float], tuple[float, float]], path: FoldPath,
+         bunch: bool = False) -> tuple[Array, Array]:
+    """(window, phase) images for one fold along ``line`` on the ``sides`` given, bent and
+    deepened as ``path`` says (``fold_path``), from images of face x, y and z (or per-vertex
+    arrays): a single valley (``FOLD_WIDTH`` inside and outside) whose bottom follows the
+    line, fading in and out at its ends (``FOLD_ENDS``) — a nasolabial fold, a marionette
+    line. With ``bunch``, two short, shallower lines under the lower lid too (``LOWER_LID``,
+    as deep as the pose squeezes the skin there): the cheek a smile pushes up bunching under
+    the eye. The window holds each line's depth; the phase is 0 along a line's bottom."""
+    side = np.where(x - midline >= 0.0, 1.0, -1.0)
+    dx = side * (x - midline)
+    u, v = _segment(dx, y, line)
+    centres = (np.arange(FOLD_BINS) + 0.5) / FOLD_BINS
+    left = side > 0.0
+    offset = np.where(left, np.interp(u, centres, path.offsets[1]),
+                      np.interp(u, centres, path.offsets[0]))
+    depth = np.where(left, np.interp(u, centres, path.depths[1]),
+                     np.interp(u, centres, path.depths[0]))
+    d = v - offset
+    across = d / np.where(d < 0.0, FOLD_WIDTH[0], FOLD_WIDTH[1])  # ±½ at the rims
+    window = (depth * _smoothstep(-0.02, FOLD_ENDS[0], u)
+              * _smoothstep(1.0, 1.0 - FOLD_ENDS[1], u) * _smoothstep(1.0, 0.6, np.abs(across)))
+    phase = _one_valley(across)
+    if bunch:
+        under, lid_phase, near = lower_lid_lines(
+            dx, y, BUNCH_ANGLES, BUNCH_GAIN * np.where(left, path.bunch[1], path.bunch[0]))
+        phase = np.where(near & ~(window > 0.0), lid_phase, phase)
+        window = np.maximum(window, under)
+    window = window * np.isin(side, sides) * _smoothstep(FOLD_FACING - 0.08,
+                                                         FOLD_FACING + 0.08, z)
     return window.astype(np.float32), phase.astype(np.float32)

@@ -77,11 +77,14 @@ CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's
 REVEAL_SHARE = 0.1  # a pose reveals its map where it compresses this share of its strongest
 PLACED_GAIN = 3.5  # a frown's glabellar lines, the deepest an artist paints, this much deeper
 PLACED_SHARPNESS = 1.0  # … and as wide as their spacing: a few close lines, no flat between
+FOLD_SHARPNESS = 2.0  # a fold's walls ease into the skin beside it: no rim where they end
 BARE_SOFTNESS = 0.006  # of the map's size: the soft edge where furrows give way to bare skin
 MOVED_SHARE = 0.2  # … and where it moves the skin by this share of its largest motion
 PLACED_WINDOW = 0.05  # anatomy's lines reach the vertices where their window is this much …
 PLACED_SHARE = 0.1  # … and the pose compresses the skin by this share of its strongest there
 WINDOW_RINGS = 3  # the pose wrinkles this many triangles around the window, its mask's edge
+FOLD_RINGS = 2  # a fold's vertices: this many triangles around those it lies on, not cut by
+# their edges where the fold is only a few triangles wide
 
 
 @dataclass
@@ -167,6 +170,7 @@ class FurrowField:
     bare: Array | None = None
     gain: float = 1.0  # depth relative to the map's: anatomy's signature lines run deeper …
     sharpness: float = SHARPNESS  # … and wider, their walls spanning the whole spacing
+    placed: bool = False  # lines anatomy placed (``vertex_lines``)
 
     def depth(self) -> Array:
         """Each texel's furrow depth in [0, 1]: its amount eased out (a·(2 − a): furrows keep
@@ -195,14 +199,16 @@ def pose_full_at(compression: Array, full_at: float) -> float:
 
 def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
                  full_at: float, smoothing: float, spacing: float,
-                 placed: tuple[Array, Array, float] | None = None,
+                 placed: tuple[Array, Array, float, bool] | None = None,
                  moved: Array | None = None, keep: Array | None = None,
                  area: Array | None = None) -> FurrowField:
     """Rasterise and smooth one pose's compression and direction fields, lay furrows across
     the direction (``furrow_phase``) and upsample to the map's size. ``placed``: a window and
     a phase at the work size that anatomy gives this pose's lines (a frown's, between the
-    brows; a squint's crow's feet) and their depth relative to ``PLACED_GAIN``: the furrows
-    then lie where the window and the pose's compression meet, along that phase. ``moved``: a
+    brows; a squint's crow's feet; a smile's nasolabial fold) and their depth relative to
+    ``PLACED_GAIN``, and whether the pose's compression gates them texel by texel: the furrows
+    then lie where the window and the pose's compression meet (or, ungated, where the window
+    says: a fold's depth along it is the compression's already), along that phase. ``moved``: a
     work-size image of the pose's motion as a share of its largest: its technique-2 vectors
     reveal the map from ``MOVED_SHARE`` on. ``keep``:
     a work-size image in [0, 1], where on the face furrows may lie at all. ``area``: for
@@ -235,9 +241,11 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         strength = strength * keep
     lines = None  # where the pose's lines may lie: anywhere it compresses, unless placed
     if placed is not None:
-        strength, phase, c, s = _placed_furrows(amount, placed[1])
+        strength, phase, c, s = _placed_furrows(amount, _fill_outside(placed[1], covered))
         lines = mask_ops.resample(placed[0], size).ravel() > 1e-3
-        strength = strength * placed[0]
+        # a fold's window carries its depth along it, from the pose's compression: gated
+        # again texel by texel, its edge would follow the compression's patchy border
+        strength = strength * placed[0] if placed[3] else placed[0].astype(np.float32)
         if area is not None:  # ending inside the technique-2 area, not cut by its triangles
             inside = np.clip(2.0 * mask_ops.blur(area, 0.5 * radius) - 1.0, 0.0, 1.0)
             strength = strength * inside * inside * (3.0 - 2.0 * inside)
@@ -262,8 +270,29 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     return FurrowField(index, strength.ravel()[index], degrees.astype(np.float32),
                        _resample_unbounded(phase, size).ravel()[index],
                        np.flatnonzero(reveals & ~lines),
-                       *((1.0, SHARPNESS) if placed is None
-                         else (PLACED_GAIN * placed[2], PLACED_SHARPNESS)))
+                       *((1.0, SHARPNESS, False) if placed is None
+                         else (PLACED_GAIN * placed[2],
+                               PLACED_SHARPNESS if placed[3] else FOLD_SHARPNESS, True)))
+
+
+def _fill_outside(values: Array, covered: Array, passes: int = 4) -> Array:
+    """``values`` with the texels off the UV layout (not ``covered``) within ``passes`` texels
+    of it given the mean of their covered (or filled) neighbours: resampled to the map's size,
+    a phase must not mix with the meaningless values of a hole in the layout (the mouth's
+    corner) — it would draw a furrow's bottom along the hole's edge."""
+    out = np.where(covered, values, 0.0).astype(np.float64)
+    known = covered.astype(np.float64)
+    for _ in range(passes):
+        total = np.zeros_like(out)
+        count = np.zeros_like(out)
+        for axis in (0, 1):
+            for step in (1, -1):
+                total += np.roll(out * known, step, axis)
+                count += np.roll(known, step, axis)
+        fill = (known == 0.0) & (count > 0.0)
+        out = np.where(fill, total / np.maximum(count, 1.0), out)
+        known = np.where(fill, 1.0, known)
+    return out.astype(np.float32)
 
 
 def _placed_furrows(amount: Array, phase: Array) -> tuple[Array, Array, Array, Array]:
@@ -438,7 +467,12 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
         bare = [_bare_image(fields[i], size) for i in group] if groups is not None else []
         for k, i in enumerate(group):
             furrows = fields[i].depth()
-            others = [image for j, image in enumerate(bare) if j != k and image is not None]
+            # anatomy's lines give way to other poses' bare skin, but not to that of other
+            # placed lines: those reveal all the skin they move around their small window (a
+            # cheek squint the whole cheek, a mouth frown the mouth's corner), and would erase
+            # the smile's fold where past the shader's four maps they share one
+            others = [image for j, image in enumerate(bare) if j != k and image is not None
+                      and not (fields[i].placed and fields[group[j]].placed)]
             if others:
                 revealed = np.clip(np.sum(others, axis=0), 0.0, 1.0).ravel()[fields[i].index]
                 furrows = furrows * (1.0 - revealed)
@@ -514,7 +548,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
             lines = vertex_lines(places, mesh, target, strain.compression * skin_tri)
         if lines is not None and places is not None and face_xyz is not None:
             window, phase = lines.place(*face_xyz)
-            placed = (np.where(ids >= 0, window, 0.0), phase, lines.gain)
+            placed = (np.where(ids >= 0, window, 0.0), phase, lines.gain, lines.gated)
             area = raster.image(((share > MOVED_SHARE) | lines.region
                                  ).astype(np.float32)[mesh.weld])
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
@@ -538,34 +572,59 @@ def _grown(vertices: Array, triangles: Array, rings: int) -> Array:
 class VertexLines:
     """Lines anatomy places for one pose, per welded vertex."""
 
-    # (window, phase) from images (or arrays) of face x, y and z: ``anatomy.glabella`` or
-    # ``anatomy.crows_feet`` for this head and pose
+    # (window, phase) from images (or arrays) of face x, y and z: ``anatomy.glabella``,
+    # ``anatomy.crows_feet`` or ``anatomy.fold`` for this head and pose
     place: Callable[[Array, Array, Array], tuple[Array, Array]]
     window: Array  # (W,) float: where anatomy lets its lines lie (``place``'s window)
     region: Array  # (W,) bool: the vertices they lie on (``placed_region``)
     gain: float = 1.0  # their depth, relative to a frown's lines (``PLACED_GAIN``)
+    gated: bool = True  # the pose's compression texel by texel limits them (a fold's window
+    # already holds its depth, from the compression along it)
 
 
 def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Array
                  ) -> VertexLines | None:
-    """The lines anatomy places for a pose that lowers a brow (a frown's, between the brows)
-    or squints (crow's feet at the outer corner of the eye), from its compression on the skin
-    per triangle (``squeezed``); None for any other pose. Per vertex only, so the set-up can
-    find them without synthesising a map: the map's furrows and the areas that reveal them
-    come from this one place."""
+    """The lines anatomy places for a pose that lowers a brow (a frown's, between the brows),
+    squints (crow's feet at the outer corner of the eye), smiles (a nasolabial fold and the
+    cheek bunching under the eye) or pulls the mouth corner down (a marionette line), from its
+    compression on the skin per triangle (``squeezed``); None for any other pose. Per vertex
+    only, so the set-up can find them without synthesising a map: the map's furrows and the
+    areas that reveal them come from this one place."""
     corners = mesh.welded_triangles.ravel()
     total = np.bincount(corners, np.repeat(np.asarray(squeezed, np.float64), 3), mesh.n_welded)
     mean = total / np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1)
+    gain = 1.0
     if places.lowers_brow(mesh.rest, target, total):
         place = partial(anatomy.glabella, midline=places.midline,
                         **dict(zip(("bottom", "nose"), places.squeezed_band(mean), strict=True)))
     elif sides := places.squinting_sides(mesh.rest, target, total):
         place = partial(anatomy.crows_feet, midline=places.midline, sides=sides)
+        gain = anatomy.FAN_GAIN
+    elif sides := anatomy.mouth_sides(places, mesh.rest, target, total, anatomy.NASOLABIAL,
+                                      up=True):
+        place = partial(anatomy.fold, midline=places.midline, sides=sides,
+                        line=anatomy.NASOLABIAL, bunch=True,
+                        path=anatomy.fold_path(places, mean, sides, anatomy.NASOLABIAL))
+        gain = anatomy.FOLD_GAIN
+    elif sides := anatomy.mouth_sides(places, mesh.rest, target, total, anatomy.MARIONETTE,
+                                      up=False):
+        place = partial(anatomy.fold, midline=places.midline, sides=sides,
+                        line=anatomy.MARIONETTE,
+                        path=anatomy.fold_path(places, mean, sides, anatomy.MARIONETTE))
+        gain = anatomy.MARIONETTE_GAIN
     else:
         return None
     window = place(*places.xyz.T)[0]
-    gain = anatomy.FAN_GAIN if place.func is anatomy.crows_feet else 1.0
-    return VertexLines(place, window, placed_region(window, mean), gain)
+    region = placed_region(window, mean)
+    if place.func is anatomy.fold:  # a fold a few triangles wide: its area holds all of it,
+        # ending past its edge (its window holds its depth from the pose's compression)
+        region = _grown(window > PLACED_WINDOW, mesh.welded_triangles, FOLD_RINGS) & (
+            window > 0.0)
+    elif place.func is anatomy.crows_feet:  # a squint's lines show wherever the map draws them:
+        # on skin it squeezes at all (``_placed_furrows``), however little beside the eye
+        region = region | ((window > PLACED_WINDOW)
+                           & (mean >= 0.25 * WRINKLING_COMPRESSION))
+    return VertexLines(place, window, region, gain, place.func is not anatomy.fold)
 
 
 def placed_lines(project: Project, poses: Sequence[str] | None = None, frame=None
