@@ -102,17 +102,17 @@ def test_without_a_pose_the_timeline_plays_and_with_one_the_face_holds_it(test_f
     _, page, _ = test_face
     moments = {}
     for query in ("technique=t2&ui=0", f"pose={POSE}&technique=t2&ui=0"):
-        # virtual milliseconds: the page plays by then (its data is inflated asynchronously:
-        # in a long test run that took over 2 s of virtual time); half a second apart, so the
-        # two moments show different weights wherever the playing started (at 1.5 and 3 s,
-        # frames 36 and 72 from the start, the face is neutral both times)
-        for settle in (5000, 5500):
+        # virtual milliseconds since the page opened, when it starts playing its timeline
+        # (180 frames at 24 fps, 7.5 s a loop): in the second loop, after its data is inflated
+        # however long that takes, at frame 100.8 (the third pose at 0.75) and 120 (the fourth
+        # at 1)
+        for settle in (11700, 12500):
             open_page(page, query, tmp_path / "moment.png", settle)
             moments[query, settle] = pixels(tmp_path / "moment.png")
             assert face_share(moments[query, settle]) >= 0.10
-    playing = changed(moments["technique=t2&ui=0", 5000], moments["technique=t2&ui=0", 5500])
-    held = changed(moments[f"pose={POSE}&technique=t2&ui=0", 5000],
-                   moments[f"pose={POSE}&technique=t2&ui=0", 5500])
+    playing = changed(moments["technique=t2&ui=0", 11700], moments["technique=t2&ui=0", 12500])
+    held = changed(moments[f"pose={POSE}&technique=t2&ui=0", 11700],
+                   moments[f"pose={POSE}&technique=t2&ui=0", 12500])
     assert playing.mean() > 0.002
     assert held.mean() == 0
 

@@ -434,6 +434,14 @@ async function main() {
     player.setPose(state.weights);
     player.draw(state.technique);
   }
+  function playFrom(frame, at) {
+    // the timeline at ``frame`` at page time ``at`` (ms), playing on from there
+    state.playing = true;
+    play.textContent = 'Pause';
+    started = at;
+    from = frame;
+    requestAnimationFrame(tick);
+  }
   function tick(now) {
     if (!state.playing) return;
     const first = timeline.frames[0], last = timeline.frames[timeline.frames.length - 1];
@@ -445,11 +453,7 @@ async function main() {
     scrub.min = timeline.frames[0];
     scrub.max = timeline.frames[timeline.frames.length - 1];
     play.addEventListener('click', () => {
-      state.playing = !state.playing;
-      play.textContent = state.playing ? 'Pause' : 'Play';
-      started = performance.now();
-      from = state.frame;
-      if (state.playing) requestAnimationFrame(tick);
+      if (state.playing) stop(); else playFrom(state.frame, performance.now());
     });
     scrub.addEventListener('input', () => { stop(); showFrame(Number(scrub.value)); });
   } else {
@@ -483,7 +487,9 @@ async function main() {
   player.setPose(state.weights);
   player.draw(state.technique);
   if (query.problems.length) say(query.problems.join('; '));
-  if (timeline && !query.still) play.click(); // no pose asked for: the timeline plays
+  // no pose asked for: the timeline plays, from its first frame when the page opened (not
+  // when its data was inflated: how long that takes varies, the frame shown at a moment not)
+  if (timeline && !query.still) playFrom(timeline.frames[0], 0);
   document.body.dataset.ready = 'true';
 }
 
