@@ -117,9 +117,10 @@ def _box(centre: tuple[float, float, float], size: tuple[float, float, float]
     return corners * size + centre, faces, uv
 
 
-def build_avatar(path: Path, vertices: int = 2172) -> Path:
-    """The avatar .glb (see the module's docstring); returns its path."""
-    head = build_head("m", vertices=vertices, up="y")
+def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner") -> Path:
+    """The avatar .glb (see the module's docstring); returns its path. ``squint``: see
+    ``production_head.build_head``."""
+    head = build_head("m", vertices=vertices, up="y", squint=squint)
     skin, eye_l, eye_r, teeth = head.parts
     d = GlbDoc()
     d.doc["extensionsUsed"] = ["KHR_mesh_quantization"]

@@ -60,8 +60,15 @@ AXES = {"z": Z_UP, "y": np.eye(3)}  # "y": the sample's own axes (Y up, facing +
 OFFSET_M = np.array([0.35, -0.2, 1.55])  # where the head stands, metres (a standing character)
 
 
-def _skin_motion(name: str, x: Array, y: Array) -> tuple[Array, Array]:
-    """In-surface motion (x, y, 0) and outward bulge of a skin pose, in sample units."""
+SQUINTS = ("corner", "lid")
+
+
+def _skin_motion(name: str, x: Array, y: Array, squint: str = "corner"
+                 ) -> tuple[Array, Array]:
+    """In-surface motion (x, y, 0) and outward bulge of a skin pose, in sample units. A
+    ``squint`` "corner" draws the skin toward the outer eye corner (the ICT head's); "lid"
+    pushes the lower lid up and the cheek under it a little (an avatar maker's ARKit squint:
+    the skin under the eye squeezed up and down, the temple untouched)."""
     move = np.zeros((len(x), 3))
     bulge = np.zeros(len(x))
     side = 1.0 if name.endswith("_L") else -1.0
@@ -85,6 +92,10 @@ def _skin_motion(name: str, x: Array, y: Array) -> tuple[Array, Array]:
         move[:, :2] = 0.075 * corner[:, None] * direction
         move[:, 1] += 0.02 * blob(x, y, side * 0.3, -0.2, 0.12, 0.1)
         bulge = 0.02 * blob(x, y, side * 0.3, -0.22, 0.1, 0.08)
+    elif name.startswith("eyeSquint") and squint == "lid":
+        lid = blob(x, y, side * EYE_X, EYE_Y - 0.05, 0.10, 0.03)
+        cheek = blob(x, y, side * (EYE_X + 0.03), EYE_Y - 0.14, 0.13, 0.07)
+        move[:, 1] = 0.012 * (lid + 0.4 * cheek)
     elif name.startswith("eyeSquint"):
         # orbicularis oculi: the skin around the outer eye corner contracts toward it
         cx = side * CORNER_X
@@ -197,7 +208,8 @@ class ProductionHead:
 SCALES = {"mm": 100.0, "cm": 10.0, "m": 0.1}  # a sample unit is 10 cm
 
 
-def build_head(unit: str = "mm", vertices: int = 2172, up: str = "z") -> ProductionHead:
+def build_head(unit: str = "mm", vertices: int = 2172, up: str = "z", squint: str = "corner"
+               ) -> ProductionHead:
     geo = build_geometry(vertices)
     rest = geo.rest.astype(np.float64)
     x, y = geo.face_xy[:, 0], geo.face_xy[:, 1]
@@ -205,7 +217,7 @@ def build_head(unit: str = "mm", vertices: int = 2172, up: str = "z") -> Product
     normals = vertex_normals(rest, tri_welded)
     poses: dict[str, Array] = {}
     for name in COMPRESSING:
-        move, bulge = _skin_motion(name, x, y)
+        move, bulge = _skin_motion(name, x, y, squint)
         move *= geo.front[:, None]
         bulge = bulge * geo.front
         tangential = move - np.sum(move * normals, axis=1, keepdims=True) * normals
