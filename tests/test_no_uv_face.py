@@ -106,6 +106,23 @@ def test_a_default_render_shows_brow_raise_frown_and_smile(imported):
         assert shares["t1"] >= 0.01 and shares["t2"] >= 0.01, (pose, shares)
 
 
+
+def test_the_coarse_face_s_furrows_are_long_lines_not_crosshatched_creases(imported):
+    """Issue 38 on the issue's low-resolution head (1,220 vertices, UVs made by xatlas), front
+    view, t1 and t2 against none (tests/test_furrow_figures.py): the brow raise's lines across
+    the forehead, the frown's up and down between the brows, the smile's one direction (its
+    nasolabial fold: coherence 0.50 / 0.49 when it drew crosshatched short creases; 0.67 /
+    0.70 now)."""
+    from tests.test_furrow_figures import front_figures
+
+    _, project, _ = imported
+    figures = front_figures(project, {pose: (pose,) for pose in JUDGED}, ("t2", "t1"))
+    for technique in ("t2", "t1"):
+        raise_, frown, smile = (figures[pose, technique] for pose in JUDGED)
+        assert raise_.ratio >= 3.0 and raise_.coherence >= 0.65, (technique, raise_)
+        assert frown.ratio <= 0.33 and frown.coherence >= 0.6, (technique, frown)
+        assert smile.coherence >= 0.55, (technique, smile)
+
 def curvature_on_edges(mask: np.ndarray, mesh) -> float:
     """How much more the mask bends on its UV triangles' edges than inside them: the mean
     |Laplacian| on texels an edge crosses over that on the others, inside the charts (away
