@@ -597,6 +597,7 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
     if places.lowers_brow(mesh.rest, target, total):
         place = partial(anatomy.glabella, midline=places.midline,
                         **dict(zip(("bottom", "nose"), places.squeezed_band(mean), strict=True)))
+        gain = anatomy.GLABELLA_GAIN
     elif sides := places.squinting_sides(mesh.rest, target, total):
         place = partial(anatomy.crows_feet, midline=places.midline, sides=sides)
         gain = anatomy.FAN_GAIN
