@@ -40,7 +40,7 @@ from studio.core.files.images import to_unit_float
 from studio.core.files.naming import unique_name
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.model import Project
-from studio.core.setup import anatomy
+from studio.core.setup import anatomy, anatomy_lower
 from studio.core.setup.anatomy import FacePlaces
 from studio.core.setup.face_frame import face_frame
 from studio.core.wrinkles import mask_ops
@@ -561,6 +561,8 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
                         **dict(zip(("bottom", "nose"), places.squeezed_band(mean), strict=True)))
     elif sides := places.squinting_sides(mesh.rest, target, total):
         place = partial(anatomy.crows_feet, midline=places.midline, sides=sides)
+    elif lower := anatomy_lower.lower_face_lines(places, mesh.rest, target, mean):
+        place = lower
     else:
         return None
     window = place(*places.xyz.T)[0]
