@@ -32,6 +32,8 @@ from studio.core.setup.anatomy import FacePlaces, _smoothstep
 Array = np.ndarray
 
 STRONG = 98.0  # a pose's strong compression: this percentile over the skin it compresses
+BEHIND_TIP = (-0.05, -0.1)  # the nose's side and the chin lie behind the tip of the nose (face
+# z, fading in over this; the ICT head's: 0.1 to 0.45 behind): a face, not a flat sheet
 
 # --- a sneer's bunny lines, on the side of the nose -------------------------------------------
 # the side of the nose (face x outward from the midline): from off its ridge, which folds no
@@ -56,6 +58,11 @@ BUNNY_FADE = 0.6  # … fading out from this share of it: two or three lines, th
 BUNNY_NARROW = 0.6  # … narrower than their spacing, flat skin between (the phase bunched by
 # this much around each line's bottom: φ + this × sin φ)
 BUNNY_GAIN = 0.6  # shallower than a frown's glabellar lines
+BUNNY_QUIET = 0.002  # the window everywhere else but the other side of the nose: too faint
+# to draw a line, but the skin a sneer squeezes there (between the brows, the cheek, the lip)
+# is not skin it bares (``wrinkle_synth.FurrowField.bare``), which would erase the lines of
+# every pose whose map it shares (a frown's) and leave it no map to share; the other side of
+# the nose it bares, where the other side's sneer moves the skin just as it does
 
 # --- a mentalis push's crease under the lower lip ---------------------------------------------
 # the chin boss (face x from the midline, y, z): where a mentalis push lifts the skin …
@@ -96,13 +103,14 @@ def _nose_side(x: Array, y: Array, z: Array, midline: float) -> Array:
     out, _ = _outward(x, midline)
     return (_smoothstep(*NOSE_IN, out) * _smoothstep(*NOSE_OUT, out)
             * _smoothstep(*NOSE_LOW, y) * _smoothstep(*NOSE_HIGH, y)
-            * _smoothstep(*NOSE_FRONT, z))
+            * _smoothstep(*NOSE_FRONT, z) * _smoothstep(*BEHIND_TIP, z))
 
 
 def _chin_boss(x: Array, y: Array, z: Array, midline: float) -> Array:
     """In [0, 1]: the chin boss, below the crease under the lower lip."""
     return (_smoothstep(*CHIN_SIDE, np.abs(x - midline)) * _smoothstep(*CHIN_HIGH, y)
-            * _smoothstep(*CHIN_LOW, y) * _smoothstep(*CHIN_FRONT, z))
+            * _smoothstep(*CHIN_LOW, y) * _smoothstep(*CHIN_FRONT, z)
+            * _smoothstep(*BEHIND_TIP, z))
 
 
 def _lifted(places: FacePlaces, rest: Array, target: Array, compression: Array,
@@ -162,15 +170,18 @@ def bunny_lines(x: Array, y: Array, z: Array, midline: float,
     (``BUNNY_REACH``) around ``BUNNY_CENTRE``, running down and out at ``BUNNY_ANGLE`` below
     the horizontal, on the nose between the inner corner of the eye and the nostril wing,
     none on the cheek. The window's top is ``BUNNY_GAIN``; the phase (a line's bottom at each
-    multiple of 2π) runs across the lines."""
+    multiple of 2π) runs across the lines. Elsewhere the window is ``BUNNY_QUIET``, but for
+    the other side of the nose: no line."""
     out, side = _outward(x, midline)
     angle = np.radians(BUNNY_ANGLE)
     dx, dy = out - BUNNY_CENTRE[0], y - BUNNY_CENTRE[1]
     along = np.cos(angle) * dx - np.sin(angle) * dy  # down and out
     across = np.sin(angle) * dx + np.cos(angle) * dy  # up and out
     oval = np.hypot(along / BUNNY_REACH[0], across / BUNNY_REACH[1])
-    window = (BUNNY_GAIN * _nose_side(x, y, z, midline) * _smoothstep(1.0, BUNNY_FADE, oval)
-              * np.isin(side, sides))
+    nose = _nose_side(x, y, z, midline)
+    mine = np.isin(side, sides)
+    window = np.maximum(BUNNY_GAIN * nose * _smoothstep(1.0, BUNNY_FADE, oval) * mine,
+                        BUNNY_QUIET * np.where(mine, 1.0, 1.0 - nose))
     phase = 2.0 * np.pi * across / BUNNY_SPACING
     phase = phase + BUNNY_NARROW * np.sin(phase)
     return window.astype(np.float32), phase.astype(np.float32)
