@@ -133,10 +133,11 @@ def test_the_chin_crease_runs_across_under_the_lower_lip_only() -> None:
                     (0.0, al.CREASE, front - 0.15)):
         window, _ = al.chin_crease(*grid([x], [y], z=z), 0.0, front)
         assert window[0, 0] == 0.0, (x, y, z)
-    # across the face the phase barely turns; up and down it turns 2π per spacing
+    # across the face the phase barely turns (the crease rises a little along the lip's
+    # arc, alike either side); up and down it turns 2π per spacing
     xs, ys = [-0.05, 0.0, 0.05], [al.CREASE, al.CREASE + al.CREASE_SPACING]
     _, phase = al.chin_crease(*grid(xs, ys, z=front), 0.0, front)
-    assert np.ptp(phase[0]) < 0.05
+    assert np.ptp(phase[0]) < 0.15 and phase[0, 0] == pytest.approx(phase[0, 2])
     assert phase[1, 1] - phase[0, 1] == pytest.approx(2.0 * np.pi, abs=1e-3)
 
 
@@ -174,8 +175,8 @@ def test_the_sample_s_sneer_and_shrug_change_the_nose_side_and_under_the_lip() -
     """Front view, against none: the share of each pose's changed pixels inside its anatomical
     box, and for a sneer the share of the cheek beside it (``cheek_box``) that changes.
     Measured: the sneers' technique 1 100 % in the box (26–29 % before) and 0.0 % of the cheek
-    (47–48 % before); the shrug 57 % and 58 % with t1 and t2 (17 % and 37 % before; the rest:
-    its crease, pushed up with the lower lip, above the lip's rest landmark). Technique 2
+    (47–48 % before); the shrug 64 % with t1 and t2 (17 % and 37 % before; the rest: its
+    crease, pushed up with the lower lip, above the lip's rest landmark). Technique 2
     of a sneer is not judged here: it also shows the furrows of the poses whose wrinkle
     vectors catch its motion (the brow raise's, the frown's, the mouth frown's), as before."""
     from studio.render.offscreen import OffscreenStudio
