@@ -40,7 +40,7 @@ from studio.core.files.images import to_unit_float
 from studio.core.files.naming import unique_name
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.model import Project
-from studio.core.setup import anatomy
+from studio.core.setup import anatomy, anatomy_lower
 from studio.core.setup.anatomy import FacePlaces
 from studio.core.setup.face_frame import face_frame
 from studio.core.wrinkles import mask_ops
@@ -586,7 +586,9 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
                  ) -> VertexLines | None:
     """The lines anatomy places for a pose that lowers a brow (a frown's, between the brows),
     squints (crow's feet at the outer corner of the eye), smiles (a nasolabial fold and the
-    cheek bunching under the eye) or pulls the mouth corner down (a marionette line), from its
+    cheek bunching under the eye), pulls the mouth corner down (a marionette line), sneers
+    (bunny lines on the side of the nose) or pushes the chin up (a crease under the lower lip:
+    ``anatomy_lower``), from its
     compression on the skin per triangle (``squeezed``); None for any other pose. Per vertex
     only, so the set-up can find them without synthesising a map: the map's furrows and the
     areas that reveal them come from this one place."""
@@ -613,6 +615,8 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
                         line=anatomy.MARIONETTE,
                         path=anatomy.fold_path(places, mean, sides, anatomy.MARIONETTE))
         gain = anatomy.MARIONETTE_GAIN
+    elif lower := anatomy_lower.lower_face_lines(places, mesh.rest, target, mean):
+        place = lower
     else:
         return None
     window = place(*places.xyz.T)[0]
