@@ -177,14 +177,16 @@ def test_the_sample_s_sneer_and_shrug_change_the_nose_side_and_under_the_lip() -
     box, and for a sneer the share of the cheek beside it (``cheek_box``) that changes.
     Measured: the sneers' technique 1 100 % in the box (26–29 % before) and 0.0 % of the cheek
     (47–48 % before); the shrug 64 % with t1 and t2 (17 % and 37 % before; the rest: its
-    crease, pushed up with the lower lip, above the lip's rest landmark). Technique 2
-    of a sneer is not judged here: it also shows the furrows of the poses whose wrinkle
-    vectors catch its motion (the brow raise's, the frown's, the mouth frown's), as before."""
+    crease, pushed up with the lower lip, above the lip's rest landmark). Technique 2 of a
+    sneer: 62–67 % in the box and 1.7 % of the cheek changed, now that its wrinkle vectors
+    lie on its lines and the skin it moves around them only (``auto_setup``); on all the skin
+    it moves they revealed a frown's lines between the brows and forehead lines on the map it
+    shares (12–15 % in the box, 54–63 % of the cheek changed)."""
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
 
     project = sample_project()
-    least = {"noseSneer_L": (0.85, 0.0), "noseSneer_R": (0.85, 0.0), SHRUG: (0.45, 0.45)}
+    least = {"noseSneer_L": (0.85, 0.5), "noseSneer_R": (0.85, 0.5), SHRUG: (0.45, 0.45)}
     found = {}
     cheek = {}
     with OffscreenStudio(project, SIZE, SIZE) as studio:
@@ -196,12 +198,13 @@ def test_the_sample_s_sneer_and_shrug_change_the_nose_side_and_under_the_lip() -
         cheeks = {"noseSneer_L": cheek_box(pixels, 42), "noseSneer_R": cheek_box(pixels, 39)}
         for pose, box in boxes.items():
             plain = studio.render(RenderSettings(technique="none"), {pose: 1.0})
-            for technique in ("t1", "t2") if pose == SHRUG else ("t1",):
+            for technique in ("t1", "t2"):
                 posed = studio.render(RenderSettings(technique=technique), {pose: 1.0})
                 found[pose, technique] = furrow_figures(posed, plain, box).between_brows
                 if pose in cheeks:
                     changed = np.abs(luminance(posed) - luminance(plain)) > CHANGED
-                    cheek[pose] = float(changed[cheeks[pose]].mean())
+                    cheek[pose, technique] = float(changed[cheeks[pose]].mean())
     for pose, (t1, t2) in least.items():
-        assert found[pose, "t1"] >= t1 and found.get((pose, "t2"), 1.0) >= t2, (pose, found)
-    assert max(cheek.values()) <= 0.02, cheek
+        assert found[pose, "t1"] >= t1 and found[pose, "t2"] >= t2, (pose, found)
+    assert max(v for (_, t), v in cheek.items() if t == "t1") <= 0.02, cheek
+    assert max(v for (_, t), v in cheek.items() if t == "t2") <= 0.05, cheek

@@ -212,8 +212,11 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         area = None
         if motion > STILL_MOTION:
             selected = suggest(rest, moved, fraction)
-            if name in placed:
-                selected = selected | np.asarray(placed[name][0], bool)
+            if name in placed:  # anatomy's lines, and what the pose moves around them only:
+                # its vectors elsewhere would reveal other poses' furrows on its map (a
+                # sneer's, pulling the brow down, a frown's lines between the brows)
+                lines, window = (np.asarray(v, bool) for v in placed[name])
+                selected = (selected & window) | lines
             area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
                                            selected, colour=colour)
             motions[name] = (moved - rest).astype(np.float32)
