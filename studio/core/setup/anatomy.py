@@ -65,9 +65,13 @@ NOSE_LINE_FULL = 0.6  # … full this far either side of the midline (inner brow
 NOSE_LINE_END = 0.9  # … and gone from this far out …
 NOSE_LINE_GAIN = 0.4  # … shallower than the vertical lines, …
 NOSE_ROOT = 0.17  # … which begin this far above the bottom (without it: at the bottom) …
-GLABELLA_TOP = 1.25  # … and reach this far up the lower forehead (face y; 1.4 drew them taller
-# than an artist paints them, up toward the hairline) …
-GLABELLA_FADE = 0.08  # … fading in and out over this much
+GLABELLA_TOP = 1.45  # … and reach up the lower forehead, the middle one to this (face y; a flat
+# top at 1.25, all lines alike, drew a comb) …
+GLABELLA_FADE = 0.08  # … fading in over this much at their bottom …
+GLABELLA_TAPER = 0.35  # … and tapering out over this much below their top (face y), …
+GLABELLA_DROP = 0.25  # … which lies this much lower (face y) per inner brows' half gap out
+# from the midline, and their bottom a sixth of it higher: the middle line longest, the
+# lines beside it shorter, each ending at its own height as an artist paints them
 FACE_TOP = 0.95  # furrows end at the top of the face box (the skin the poses deform) …
 TOP_FADE = 0.1  # … fading out over this much below it (shares of its half height)
 FACING = -0.62  # glabellar lines lie on skin facing forward (face z): the face, not the scalp
@@ -89,7 +93,7 @@ FAN_ANGLES = (-68.0, 50.0)  # degrees from straight outward (up positive): the f
 FAN_EDGE = 10.0  # … fading over this much …
 FAN_SPACING = 25.0  # … a line every this many degrees, …
 FAN_FIRST = -60.0  # … the lowest here, …
-GLABELLA_GAIN = 1.5  # the glabellar lines, this much deeper than PLACED_GAIN: shorter, and deep
+GLABELLA_GAIN = 1.8  # the glabellar lines, this much deeper than PLACED_GAIN: short, tapered, deep
 FAN_GAIN = 1.5  # … this much deeper than a frown's lines: few, on skin the squint barely squeezes
 LID_ANGLES = (-125.0, -80.0)  # and two lines under the lower lid (``lower_lid_lines``), clear
 LID_GAIN = 1.0  # of the fan's lowest lines, shallower than them
@@ -231,9 +235,11 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
     across = np.abs(x - midline) / INNER_BROW  # 1 at the inner ends of the brows
     start = bottom + NOSE_ROOT if nose else bottom
     facing = _smoothstep(FACING - 0.08, FACING + 0.08, z)
+    top = GLABELLA_TOP - GLABELLA_DROP * across
+    low = start + GLABELLA_DROP / 6.0 * across
     vertical = (_smoothstep(SIDE_END, SIDE_FULL, across)
-                * _smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
-                * _smoothstep(GLABELLA_TOP + GLABELLA_FADE, GLABELLA_TOP - GLABELLA_FADE, y))
+                * _smoothstep(low - GLABELLA_FADE, low + GLABELLA_FADE, y)
+                * _smoothstep(top, top - GLABELLA_TAPER, y))
     phase = 2.0 * np.pi * (across - LINE_OFFSET) / LINE_SPACING
     if nose:
         line = bottom + NOSE_LINE
