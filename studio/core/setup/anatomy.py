@@ -135,10 +135,10 @@ class FacePlaces:
         x, y, z = self.xyz.T
         across = np.abs(x - self.midline) / INNER_BROW
         low, high, fade = DETECT_HEIGHT
-        window = (_smoothstep(DETECT_SIDE[1], DETECT_SIDE[0], across)
-                  * _smoothstep(low - fade, low + fade, y)
-                  * _smoothstep(high + fade, high - fade, y)
-                  * _smoothstep(FACING - 0.08, FACING + 0.08, z))
+        window = (smoothstep(DETECT_SIDE[1], DETECT_SIDE[0], across)
+                  * smoothstep(low - fade, low + fade, y)
+                  * smoothstep(high + fade, high - fade, y)
+                  * smoothstep(FACING - 0.08, FACING + 0.08, z))
         if float(weight @ window) / total < GLABELLA_SHARE:
             return False
         motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
@@ -182,8 +182,8 @@ class FacePlaces:
         proportions: the brows of one sit lower in its face box than another's."""
         x, y, z = self.xyz.astype(np.float64).T
         across = np.abs(x - self.midline) / INNER_BROW
-        weight = (np.asarray(compression, np.float64) * _smoothstep(SIDE_END, SIDE_FULL, across)
-                  * _smoothstep(FACING - 0.08, FACING + 0.08, z))
+        weight = (np.asarray(compression, np.float64) * smoothstep(SIDE_END, SIDE_FULL, across)
+                  * smoothstep(FACING - 0.08, FACING + 0.08, z))
         total = weight.sum()
         if total <= 0.0:
             return BOTTOM, True
@@ -213,10 +213,10 @@ def on_face(box_y: Array) -> Array:
     scalp there would otherwise draw forehead lines over the top of the head — which any
     frown or squint whose motion falls in the brow raise's wrinkle vectors there reveals
     too."""
-    return _smoothstep(FACE_TOP, FACE_TOP - TOP_FADE, box_y).astype(np.float32)
+    return smoothstep(FACE_TOP, FACE_TOP - TOP_FADE, box_y).astype(np.float32)
 
 
-def _smoothstep(edge0: float, edge1: float, x: Array) -> Array:
+def smoothstep(edge0: float, edge1: float, x: Array) -> Array:
     t = np.clip((x - edge0) / (edge1 - edge0), 0.0, 1.0)
     return t * t * (3.0 - 2.0 * t)
 
@@ -234,18 +234,18 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
     the root of the nose, the procerus's, and the phase runs up and down there."""
     across = np.abs(x - midline) / INNER_BROW  # 1 at the inner ends of the brows
     start = bottom + NOSE_ROOT if nose else bottom
-    facing = _smoothstep(FACING - 0.08, FACING + 0.08, z)
+    facing = smoothstep(FACING - 0.08, FACING + 0.08, z)
     top = GLABELLA_TOP - GLABELLA_DROP * across
     low = start + GLABELLA_DROP / 6.0 * across
-    vertical = (_smoothstep(SIDE_END, SIDE_FULL, across)
-                * _smoothstep(low - GLABELLA_FADE, low + GLABELLA_FADE, y)
-                * _smoothstep(top, top - GLABELLA_TAPER, y))
+    vertical = (smoothstep(SIDE_END, SIDE_FULL, across)
+                * smoothstep(low - GLABELLA_FADE, low + GLABELLA_FADE, y)
+                * smoothstep(top, top - GLABELLA_TAPER, y))
     phase = 2.0 * np.pi * (across - LINE_OFFSET) / LINE_SPACING
     if nose:
         line = bottom + NOSE_LINE
         off = np.abs(y - line)
-        across_root = (NOSE_LINE_GAIN * _smoothstep(NOSE_LINE_END, NOSE_LINE_FULL, across)
-                       * _smoothstep(NOSE_LINE_HALF, 0.5 * NOSE_LINE_SPACING, off))
+        across_root = (NOSE_LINE_GAIN * smoothstep(NOSE_LINE_END, NOSE_LINE_FULL, across)
+                       * smoothstep(NOSE_LINE_HALF, 0.5 * NOSE_LINE_SPACING, off))
         phase = np.where(across_root > vertical, 2.0 * np.pi * (y - line) / NOSE_LINE_SPACING,
                          phase)
         vertical = np.maximum(vertical, across_root)
@@ -269,10 +269,10 @@ def crows_feet(x: Array, y: Array, z: Array, midline: float,
     r = np.hypot(dx, dy)
     angle = np.degrees(np.arctan2(dy, dx))
     low, high = FAN_ANGLES
-    window = (_smoothstep(FAN_START - FAN_FADE, FAN_START + FAN_FADE, r)
-              * _smoothstep(FAN_END + FAN_FADE, FAN_END - FAN_FADE, r)
-              * _smoothstep(low - FAN_EDGE, low + FAN_EDGE, angle)
-              * _smoothstep(high + FAN_EDGE, high - FAN_EDGE, angle)
+    window = (smoothstep(FAN_START - FAN_FADE, FAN_START + FAN_FADE, r)
+              * smoothstep(FAN_END + FAN_FADE, FAN_END - FAN_FADE, r)
+              * smoothstep(low - FAN_EDGE, low + FAN_EDGE, angle)
+              * smoothstep(high + FAN_EDGE, high - FAN_EDGE, angle)
               * np.isin(side, sides))
     phase = 2.0 * np.pi * (angle - FAN_FIRST) / FAN_SPACING
     lids, lid_phase, near = lower_lid_lines(side * (x - midline), y, LID_ANGLES, LID_GAIN)
@@ -451,10 +451,10 @@ def lower_lid_lines(dx: Array, y: Array, angles: tuple[float, float], gain: Arra
     below = (np.hypot(ex, ey) - 1.0) * b  # how far below the lid's arc (face y, about)
     angle = np.degrees(np.arctan2(ey, ex))
     low, high = angles
-    window = (gain * _smoothstep(low - BUNCH_EDGE, low + BUNCH_EDGE, angle)
-              * _smoothstep(high + BUNCH_EDGE, high - BUNCH_EDGE, angle)
-              * _smoothstep(-BUNCH_SPACING, -0.5 * BUNCH_SPACING, below)
-              * _smoothstep(2.0 * BUNCH_SPACING, 1.5 * BUNCH_SPACING, below))
+    window = (gain * smoothstep(low - BUNCH_EDGE, low + BUNCH_EDGE, angle)
+              * smoothstep(high + BUNCH_EDGE, high - BUNCH_EDGE, angle)
+              * smoothstep(-BUNCH_SPACING, -0.5 * BUNCH_SPACING, below)
+              * smoothstep(2.0 * BUNCH_SPACING, 1.5 * BUNCH_SPACING, below))
     margin = BUNCH_MARGIN * BUNCH_SPACING
     support = ((angle > low - BUNCH_EDGE - BUNCH_MARGIN * 100.0)
                & (angle < high + BUNCH_EDGE + BUNCH_MARGIN * 100.0)
@@ -484,14 +484,14 @@ def fold(x: Array, y: Array, z: Array, midline: float, sides: tuple[float, ...],
                      np.interp(u, centres, path.depths[0]))
     d = v - offset
     across = d / np.where(d < 0.0, FOLD_WIDTH[0], FOLD_WIDTH[1])  # ±½ at the rims
-    window = (depth * _smoothstep(-0.02, FOLD_ENDS[0], u)
-              * _smoothstep(1.0, 1.0 - FOLD_ENDS[1], u) * _smoothstep(1.0, 0.6, np.abs(across)))
+    window = (depth * smoothstep(-0.02, FOLD_ENDS[0], u)
+              * smoothstep(1.0, 1.0 - FOLD_ENDS[1], u) * smoothstep(1.0, 0.6, np.abs(across)))
     phase = _one_valley(across)
     if bunch:
         under, lid_phase, near = lower_lid_lines(
             dx, y, BUNCH_ANGLES, BUNCH_GAIN * np.where(left, path.bunch[1], path.bunch[0]))
         phase = np.where(near & ~(window > 0.0), lid_phase, phase)
         window = np.maximum(window, under)
-    window = window * np.isin(side, sides) * _smoothstep(FOLD_FACING - 0.08,
+    window = window * np.isin(side, sides) * smoothstep(FOLD_FACING - 0.08,
                                                          FOLD_FACING + 0.08, z)
     return window.astype(np.float32), phase.astype(np.float32)

@@ -27,7 +27,7 @@ from functools import partial
 
 import numpy as np
 
-from studio.core.setup.anatomy import FacePlaces, _smoothstep
+from studio.core.setup.anatomy import FacePlaces, smoothstep
 
 Array = np.ndarray
 
@@ -101,16 +101,16 @@ def _outward(x: Array, midline: float) -> tuple[Array, Array]:
 def _nose_side(x: Array, y: Array, z: Array, midline: float) -> Array:
     """In [0, 1]: the side of the nose above the nostril wings, up to the inner eye corners."""
     out, _ = _outward(x, midline)
-    return (_smoothstep(*NOSE_IN, out) * _smoothstep(*NOSE_OUT, out)
-            * _smoothstep(*NOSE_LOW, y) * _smoothstep(*NOSE_HIGH, y)
-            * _smoothstep(*NOSE_FRONT, z) * _smoothstep(*BEHIND_TIP, z))
+    return (smoothstep(*NOSE_IN, out) * smoothstep(*NOSE_OUT, out)
+            * smoothstep(*NOSE_LOW, y) * smoothstep(*NOSE_HIGH, y)
+            * smoothstep(*NOSE_FRONT, z) * smoothstep(*BEHIND_TIP, z))
 
 
 def _chin_boss(x: Array, y: Array, z: Array, midline: float) -> Array:
     """In [0, 1]: the chin boss, below the crease under the lower lip."""
-    return (_smoothstep(*CHIN_SIDE, np.abs(x - midline)) * _smoothstep(*CHIN_HIGH, y)
-            * _smoothstep(*CHIN_LOW, y) * _smoothstep(*CHIN_FRONT, z)
-            * _smoothstep(*BEHIND_TIP, z))
+    return (smoothstep(*CHIN_SIDE, np.abs(x - midline)) * smoothstep(*CHIN_HIGH, y)
+            * smoothstep(*CHIN_LOW, y) * smoothstep(*CHIN_FRONT, z)
+            * smoothstep(*BEHIND_TIP, z))
 
 
 def _lifted(places: FacePlaces, rest: Array, target: Array, compression: Array,
@@ -180,7 +180,7 @@ def bunny_lines(x: Array, y: Array, z: Array, midline: float,
     oval = np.hypot(along / BUNNY_REACH[0], across / BUNNY_REACH[1])
     nose = _nose_side(x, y, z, midline)
     mine = np.isin(side, sides)
-    window = np.maximum(BUNNY_GAIN * nose * _smoothstep(1.0, BUNNY_FADE, oval) * mine,
+    window = np.maximum(BUNNY_GAIN * nose * smoothstep(1.0, BUNNY_FADE, oval) * mine,
                         BUNNY_QUIET * np.where(mine, 1.0, 1.0 - nose))
     phase = 2.0 * np.pi * across / BUNNY_SPACING
     phase = phase + BUNNY_NARROW * np.sin(phase)
@@ -197,9 +197,9 @@ def chin_crease(x: Array, y: Array, z: Array, midline: float, front: float = CRE
     down across it. The window's top is ``CREASE_GAIN``."""
     across = np.abs(x - midline)
     off = y - (CREASE + CREASE_CURVE * across * across)
-    window = (CREASE_GAIN * _smoothstep(*CREASE_SIDE, across)
-              * _smoothstep(0.5 * CREASE_SPACING, CREASE_HALF, np.abs(off))
-              * _smoothstep(front - CREASE_BEHIND[0], front - CREASE_BEHIND[1], z))
+    window = (CREASE_GAIN * smoothstep(*CREASE_SIDE, across)
+              * smoothstep(0.5 * CREASE_SPACING, CREASE_HALF, np.abs(off))
+              * smoothstep(front - CREASE_BEHIND[0], front - CREASE_BEHIND[1], z))
     phase = 2.0 * np.pi * off / CREASE_SPACING
     return window.astype(np.float32), phase.astype(np.float32)
 
