@@ -81,8 +81,9 @@ def test_vertex_lines_places_bunny_lines_and_the_chin_crease(sample) -> None:
     on = crease.region
     assert on.sum() >= 10 and (np.abs(x[on]) < 0.25).all(), on.sum()
     assert ((y[on] < -0.66) & (y[on] > -0.95)).all()  # under the lower lip, above the chin
-    for name in ("browInnerUp_L", "eyeBlink_L", "mouthPucker", "jawOpen"):
+    for name in ("browInnerUp_L", "eyeBlink_L", "jawOpen"):
         assert found[name] is None, name
+    assert found["mouthPucker"].place.func.__name__ == "lip_lines"  # tests/test_anatomy_lips
     assert found["mouthSmile_L"].place.func.__name__ == "fold"  # its nasolabial fold
     assert found["browDown_L"].place.func.__name__ == "glabella"
     assert found["eyeSquint_L"].place.func.__name__ == "crows_feet"

@@ -260,3 +260,35 @@ def test_a_cancelled_auto_start_leaves_the_project_untouched(face, stop_at):
     assert len(calls) == stop_at and all(0 < d <= t for d, t in calls)
     done = auto.auto_start(face, progress=lambda d, t: True)
     assert done is not None and face.influence.areas and not is_flat(face.textures.normal_wrinkled)
+
+
+def _shown(area: WdvArea, delta: np.ndarray) -> np.ndarray:
+    """Technique 2's visibility of ``area`` for the motion ``delta`` (the shader's formula)."""
+    from studio.core.wrinkles.wdv import WdvSetup, visibility
+
+    return visibility(delta, WdvSetup([area]).pack_slots(len(delta))).max(axis=1)
+
+
+def test_two_other_poses_at_once_do_not_show_an_area_s_wrinkles_where_neither_squeezes():
+    """Issue 38: an expression sums poses. Hand-computed on two vertices, the area's vectors
+    along +x with a 20° cone: pose B moves them along (1, 1) (45°, outside the cone) and pose C
+    along (1, −0.6) (31°, outside) — neither alone shows the wrinkles, but together they move
+    along (2, 0.4) (11.3°, inside: 2.04 × (1 − 11.3/20) = 0.89 at full weight, its vectors
+    being 1 long). Where
+    neither squeezes the skin (vertex 0) the cone narrows below 11.3° and the sum shows
+    nothing; where C squeezes it (vertex 1) the cone stays. The area's own pose, along its
+    vectors, shows as before."""
+    directions = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]], np.float32)
+    area = WdvArea("A", "A", directions, np.ones(2, np.float32), cone_angle_deg=20.0)
+    b = np.array([[1.0, 1.0, 0.0]] * 2, np.float32)
+    c = np.array([[1.0, -0.6, 0.0]] * 2, np.float32)
+    assert _shown(area, b).max() == 0.0 and _shown(area, c).max() == 0.0
+    np.testing.assert_allclose(_shown(area, b + c), 2.04 * (1.0 - 11.31 / 20.0), atol=1e-3)
+    auto.narrow_cones([area], {"A": directions, "B": b, "C": c},
+                      {"A": np.ones(2), "B": np.zeros(2), "C": np.array([0.0, 0.5])})
+    cones = area.vertex_cones_deg()
+    angle = np.degrees(np.arctan2(0.4, 2.0))
+    assert cones[0] == pytest.approx(auto.CONE_SHRINK * angle, abs=1e-4) and cones[1] == 20.0
+    shown = _shown(area, b + c)
+    assert shown[0] == 0.0 and shown[1] > 0.5
+    np.testing.assert_allclose(_shown(area, directions), 1.0)

@@ -87,10 +87,10 @@ def test_new_auto_on_blender_s_fbx_shows_brow_raise_frown_and_smile(fbx_files, k
     for pose in JUDGED:
         shares = changed_shares(project, pose)
         print(kind, pose, shares)
-        # the frown: 1.8 % (t1) / 2.0 % (t2) with all 53 expressions set up; 0.8 / 1.2 %
-        # before its mask and vectors held its glabellar lines whole
-        least = 0.015 if pose == "browDown_L" else 0.01
-        assert shares["t1"] >= least and shares["t2"] >= least, (kind, pose, shares)
+        # the frown: 1.09 % (t1) / 1.14 % (t2) with all 53 expressions set up, two lines
+        # between the brows (issue 38; 1.8 / 2.0 % as a comb of three up the forehead); 0.8 /
+        # 1.2 % before its mask and vectors held its glabellar lines whole
+        assert shares["t1"] >= 0.01 and shares["t2"] >= 0.01, (kind, pose, shares)
 
 
 def test_an_fbx_without_uvs_gets_them_made_and_said(tmp_path):

@@ -8,9 +8,10 @@ sideways, and laying furrows across that compression fills the forehead with nea
 lines up to the scalp — where a corrugator and procerus frown makes one to three vertical lines
 *between the brows* and one or two across the root of the nose. So a pose that pulls the brow
 down keeps its compression as *where* and *how strong*, and takes *where exactly and which way*
-from the face: three vertical lines (one on the midline, one either side of it), no further out
-than the inner ends of the brows, from above the root of the nose up into the lower forehead,
-and one shallower line across the root of the nose where the squeezed skin reaches that low.
+from the face: two vertical lines, one either side of the midline (an artist's "11"), no
+further out than the inner ends of the brows, from above the root of the nose up to where the
+pose stops squeezing the skin, deepest low and fading as they rise, and one faint line across
+the root of the nose where the squeezed skin reaches that low.
 Every line stays inside the skin the pose compresses (``wrinkle_synth.placed_region``).
 
 A squint (the lower lid pushed up) squeezes the lids and the skin under the eye, and furrows
@@ -30,7 +31,7 @@ fold placed by anatomy alone missed the squeezed skin of heads whose crease lies
 
 Places are in face coordinates (``FacePlaces``: x toward the character's left, y up, z to
 the front, from the tip of the nose, in the face box's half width), with anchors measured on
-the ICT-FaceKit head's 68 landmarks (inner brows 0.167 either side of the midline, 1.27 above
+the ICT-FaceKit head's 68 landmarks (inner brows 0.167 either side of the midline, 0.83 above
 the tip of the nose; the root of the nose 0.52 above it), so they are shares of the face's own
 size. Heights start from where the pose's squeezed skin begins on the head at hand
 (``FacePlaces.squeezed_band``): a head whose brows sit lower in its face box gets its lines
@@ -54,7 +55,10 @@ DETECT_SIDE = (0.3, 1.7)
 DETECT_HEIGHT = (0.47, 1.44, 0.11)  # … from this high up to this high (face y), fading
 INNER_BROW = 0.167  # the inner ends of the brows, either side of the midline (face x)
 SQUEEZED_LOW = 0.1  # the bottom of a frown's squeezed skin: this share of its compression lies
-SQUEEZED_HIGH = 0.9  # lower (between the brows) — and the top: this share lies lower
+SQUEEZED_HIGH = 0.9  # lower (between the brows) — and its top: this share lies lower (room
+SQUEEZED_TOP = 0.95  # for a line across the root of the nose) — and where the lines end: this
+# share lies lower (higher up the pose squeezes the skin too little to wrinkle: 2 % on the ICT
+# head, where its area ends; lines reaching past it were cut there, square-ended)
 BOTTOM = 0.51  # the bottom measured on the ICT-FaceKit head's brow lowerers (face y) …
 BOTTOM_RANGE = (0.2, 0.8)  # … and the bottoms believed on other heads
 NOSE_BAND = 0.5  # squeezed skin this tall (face y) holds a line across the root of the nose …
@@ -63,20 +67,22 @@ NOSE_LINE_SPACING = 0.08  # … a valley this wide (face y) …
 NOSE_LINE_HALF = 0.06  # … ending this far above and below its bottom …
 NOSE_LINE_FULL = 0.6  # … full this far either side of the midline (inner brows' half gap) …
 NOSE_LINE_END = 0.9  # … and gone from this far out …
-NOSE_LINE_GAIN = 0.4  # … shallower than the vertical lines, …
+NOSE_LINE_GAIN = 0.15  # … much shallower than the vertical lines (0.4 outweighed them), …
 NOSE_ROOT = 0.17  # … which begin this far above the bottom (without it: at the bottom) …
-GLABELLA_TOP = 1.5  # … and reach up the lower forehead, the middle one to this (face y; a flat
-# top at 1.25, all lines alike, drew a comb) …
+GLABELLA_TOP = 1.35  # … and end where the squeezed skin does, no higher than this (face y;
+# the inner brows at 0.83 on the ICT head: 1.5 drew bars up the forehead) …
 GLABELLA_FADE = 0.08  # … fading in over this much at their bottom …
-GLABELLA_TAPER = 0.25  # … and tapering out over this much below their top (face y), …
-GLABELLA_DROP = 0.25  # … which lies this much lower (face y) per inner brows' half gap out
-# from the midline, and their bottom a sixth of it higher: the middle line longest, the
-# lines beside it shorter, each ending at its own height as an artist paints them
+GLABELLA_TAPER = 0.6  # … and tapering out over this share of their length below their top:
+# deepest low, where the corrugators pull the brows together, shallow as they rise …
+GLABELLA_DROP = 0.1  # … which lies this much lower (face y) per inner brows' half gap out
 FACE_TOP = 0.95  # furrows end at the top of the face box (the skin the poses deform) …
 TOP_FADE = 0.1  # … fading out over this much below it (shares of its half height)
 FACING = -0.62  # glabellar lines lie on skin facing forward (face z): the face, not the scalp
-LINE_OFFSET = 0.0  # one line on the midline, then every …
-LINE_SPACING = 0.55  # … this share of the inner brows' half gap: three lines between the brows
+LINE_OFFSET = 0.45  # two lines, this share of the inner brows' half gap either side of the
+# midline at their bottom (an artist's "11"; three, a line on the midline too, drew a comb) …
+LINE_SPLAY = 0.3  # … spreading out by this share of it as they rise to their top …
+LINE_WIDTH = 1.0  # … each one valley this wide (shares of the half gap), flat skin between …
+LINE_NARROW = 0.5  # … its bottom bunched narrower than its shoulders (the phase + this × sin)
 SIDE_FULL = 0.9  # the lines at full depth this far out (shares of the inner brows' half gap) …
 SIDE_END = 1.2  # … and none past the inner ends of the brows
 OUTER_EYE = (0.635, 0.476)  # the outer corner of an eye (face x either side, y) …
@@ -93,10 +99,11 @@ FAN_ANGLES = (-68.0, 50.0)  # degrees from straight outward (up positive): the f
 FAN_EDGE = 10.0  # … fading over this much …
 FAN_SPACING = 25.0  # … a line every this many degrees, …
 FAN_FIRST = -60.0  # … the lowest here, …
-GLABELLA_GAIN = 1.8  # the glabellar lines, this much deeper than PLACED_GAIN: short, tapered, deep
-FAN_GAIN = 1.5  # … this much deeper than a frown's lines: few, on skin the squint barely squeezes
+GLABELLA_GAIN = 1.0  # the glabellar lines as deep as PLACED_GAIN (1.8 saturated their walls:
+# slots with square ends, however they tapered) …
+FAN_GAIN = 0.6  # … crow's feet shallower (1.5 drew claws): few, fine lines
 LID_ANGLES = (-125.0, -80.0)  # and two lines under the lower lid (``lower_lid_lines``), clear
-LID_GAIN = 1.0  # of the fan's lowest lines, shallower than them
+LID_GAIN = 0.6  # of the fan's lowest lines, as shallow as them
 
 
 @dataclass(frozen=True)
@@ -174,7 +181,7 @@ class FacePlaces:
                 sides.append(side)
         return tuple(sides)
 
-    def squeezed_band(self, compression: Array) -> tuple[float, bool]:
+    def squeezed_band(self, compression: Array) -> tuple[float, bool, float]:
         """Where a frown's lines begin on this head: the bottom (face y) of the skin a brow
         lowerer squeezes between the brows (``compression`` per vertex; ``SQUEEZED_LOW`` of it
         lies lower), within ``BOTTOM_RANGE``, and whether that skin is ``NOSE_BAND`` tall —
@@ -186,12 +193,12 @@ class FacePlaces:
                   * smoothstep(FACING - 0.08, FACING + 0.08, z))
         total = weight.sum()
         if total <= 0.0:
-            return BOTTOM, True
+            return BOTTOM, True, GLABELLA_TOP
         order = np.argsort(y)
         share = np.cumsum(weight[order]) / total
-        low, high = (float(y[order][min(int(np.searchsorted(share, q)), len(y) - 1)])
-                     for q in (SQUEEZED_LOW, SQUEEZED_HIGH))
-        return float(np.clip(low, *BOTTOM_RANGE)), high - low >= NOSE_BAND
+        low, high, top = (float(y[order][min(int(np.searchsorted(share, q)), len(y) - 1)])
+                          for q in (SQUEEZED_LOW, SQUEEZED_HIGH, SQUEEZED_TOP))
+        return float(np.clip(low, *BOTTOM_RANGE)), high - low >= NOSE_BAND, top
 
     def _up(self, rest: Array) -> Array:
         """The model direction of face y, fitted from the vertices (y is linear in position)."""
@@ -222,25 +229,29 @@ def smoothstep(edge0: float, edge1: float, x: Array) -> Array:
 
 
 def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTOM,
-             nose: bool = True) -> tuple[Array, Array]:
+             nose: bool = True, top: float = GLABELLA_TOP) -> tuple[Array, Array]:
     """(window, phase) images for a frown's lines from images of face x, y and z (or per-vertex
     arrays of them), on a head whose squeezed skin begins at ``bottom`` (face y:
-    ``FacePlaces.squeezed_band``). The window is 1 between the inner brows, from ``bottom``
-    (or above the line across the root of the nose, with ``nose``) into the lower forehead, on
-    skin that faces forward, with soft edges; there the phase (radians, a line's bottom at
-    each multiple of 2π) makes vertical lines ``LINE_SPACING`` apart, the first
-    ``LINE_OFFSET`` beside the midline on either side: the corrugators' lines. With ``nose``,
+    ``FacePlaces.squeezed_band``) and ends at ``top``. The window is 1 between the inner
+    brows, from ``bottom`` (or above the line across the root of the nose, with ``nose``),
+    tapering out over the upper ``GLABELLA_TAPER`` of the way to ``top`` (``GLABELLA_TOP`` at
+    most), on skin that faces forward, with soft edges; there the phase (radians, a line's
+    bottom at 0) makes one valley ``LINE_OFFSET`` beside the midline on either side, spreading
+    a little as it rises, and flat skin between and beside them: the corrugators' lines. With
+    ``nose``,
     below them the window holds one shallower horizontal line (at ``NOSE_LINE_GAIN``) across
     the root of the nose, the procerus's, and the phase runs up and down there."""
     across = np.abs(x - midline) / INNER_BROW  # 1 at the inner ends of the brows
     start = bottom + NOSE_ROOT if nose else bottom
     facing = smoothstep(FACING - 0.08, FACING + 0.08, z)
-    top = GLABELLA_TOP - GLABELLA_DROP * across
-    low = start + GLABELLA_DROP / 6.0 * across
+    top = min(top, GLABELLA_TOP)
+    end = top - GLABELLA_DROP * across
     vertical = (smoothstep(SIDE_END, SIDE_FULL, across)
-                * smoothstep(low - GLABELLA_FADE, low + GLABELLA_FADE, y)
-                * smoothstep(top, top - GLABELLA_TAPER, y))
-    phase = 2.0 * np.pi * (across - LINE_OFFSET) / LINE_SPACING
+                * smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
+                * smoothstep(end, end - GLABELLA_TAPER * (top - start), y))
+    rise = np.clip((y - start) / max(top - start, 1e-6), 0.0, 1.0)
+    phase = _one_valley((across - LINE_OFFSET * (1.0 + LINE_SPLAY * rise)) / LINE_WIDTH)
+    phase = phase + LINE_NARROW * np.sin(phase)
     if nose:
         line = bottom + NOSE_LINE
         off = np.abs(y - line)
@@ -292,13 +303,14 @@ MARIONETTE = ((0.39, -0.56), (0.47, -0.86))  # … and a marionette line, down f
 FOLD_REACH = 0.12  # the fold follows the pose's strongest compression this far either side …
 FOLD_BINS = 10  # … found over this many stretches along it …
 FOLD_POWER = 3.0  # … weighting the compression by this power (its strongest, not its spread)
-FOLD_WIDTH = (0.14, 0.4)  # one valley this wide (face x) inside and outside its bottom: a
-# single deep fold, steep toward the mouth and the cheek rolling over it, no second one beside it
+FOLD_WIDTH = (0.3, 0.55)  # one valley this wide (face x) inside and outside its bottom: a
+# single broad fold, steeper toward the mouth and the cheek rolling over it, no second one beside
+# it (0.14 and 0.4, three times as deep, drew a trench with hard walls)
 FLAT_BEYOND = 0.02  # past its rims the phase rises this much as steeply: the skin stays flat
 FOLD_ENDS = (0.1, 0.2)  # fading in over this share of its length, out over this share
 FOLD_FACING = -1.0  # on skin in front of this (face z): the face, not the ear nor the scalp
-FOLD_GAIN = 3.0  # a nasolabial fold, deeper than a frown's lines: the smile's deepest …
-MARIONETTE_GAIN = 0.8  # … a marionette line, shallower and shorter
+FOLD_GAIN = 1.2  # a nasolabial fold, a little deeper than a frown's lines and broader …
+MARIONETTE_GAIN = 0.4  # … a marionette line, shallower and shorter
 LOWER_LID = (0.45, 0.47, 0.3, 0.17)  # the lower lid's arc: centre (face x, y), half width and
 # depth of an ellipse whose bottom lies where the cheek bunches under the eye …
 BUNCH_SPACING = 0.08  # … and a second line this much lower (face y) …

@@ -28,6 +28,7 @@ from functools import partial
 import numpy as np
 
 from studio.core.setup.anatomy import FacePlaces, smoothstep
+from studio.core.setup.anatomy_lips import lip_lines, purses_lips
 
 Array = np.ndarray
 
@@ -205,11 +206,14 @@ def chin_crease(x: Array, y: Array, z: Array, midline: float, front: float = CRE
 
 
 def lower_face_lines(places: FacePlaces, rest: Array, target: Array, compression: Array):
-    """The place function (``functools.partial`` of ``bunny_lines`` or ``chin_crease`` for
-    this face) for a pose that sneers or pushes the chin up, from its compression per vertex
-    (the mean over the triangles around each); None for any other pose."""
+    """The place function (``functools.partial`` of ``bunny_lines``,
+    ``anatomy_lips.lip_lines`` or ``chin_crease`` for this face) for a pose that sneers, purses
+    the lips or pushes the chin up, from its compression per vertex (the mean over the
+    triangles around each); None for any other pose."""
     if sides := sneering_sides(places, rest, target, compression):
         return partial(bunny_lines, midline=places.midline, sides=sides)
+    if purses_lips(places, rest, target, compression):
+        return partial(lip_lines, midline=places.midline)
     if pushes_chin(places, rest, target, compression):
         x, y, z = places.xyz.T
         near = np.hypot(x - places.midline, y - CREASE) < CREASE_NEAR

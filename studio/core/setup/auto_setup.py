@@ -16,8 +16,9 @@ not-face never get any. Nothing here changes the project except :func:`apply_set
 from __future__ import annotations
 
 import colorsys
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from itertools import combinations
 
 import numpy as np
 
@@ -49,6 +50,9 @@ CROSS_SHOWN = 0.05  # another pose whose motion would show an area's wrinkles th
 CROSS_SQUEEZED = 0.1  # … at a vertex it compresses less than this (its compression weight) …
 CONE_SHRINK = 0.9  # … gets the vertex's cone narrowed to this share of its motion's angle …
 LEAST_CONE = 0.5  # … but no narrower than this (degrees)
+PAIR_SHOWN = 0.3  # … or two other poses at once would show them this much (a frown's brow
+# lowerer and mouth frown, a squint's crow's feet at the temple: 1.0); 0.05 took a smile's
+# crow's feet from its cheek raise wherever two unrelated poses together moved that skin alike
 PLACED_CONE = 45.0  # degrees: the cone on the vertices of lines anatomy placed (see below)
 
 
@@ -258,27 +262,26 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
     compress the skin: technique 2 shows an area's wrinkles wherever a motion falls inside its
     cones, so a frown that pushes the outer eye corners the way a squint does would show the
     squint's crow's feet there, and its scalp's pull the brow raise's forehead lines. Where
-    another pose (``motions``: {pose: (W, 3)}) would show an area's wrinkles by
-    ``CROSS_SHOWN`` at full weight and compresses the skin by less than ``CROSS_SQUEEZED``
-    (``squeezed``: its compression weights), the vertex's cone is narrowed below that motion's
-    angle (painted cones, ``WdvArea.cone_angles_deg``); the area's own pose, along its vectors,
-    shows as before."""
+    another pose (``motions``: {pose: (W, 3)}), or two others at once (``_others``: an
+    expression is a sum of poses, and a brow lowerer with a mouth frown pushes the temple the
+    way a squint does where neither alone does), would show an area's wrinkles by
+    ``CROSS_SHOWN`` at full weight (two at once: ``PAIR_SHOWN``) and compresses the skin by
+    less than ``CROSS_SQUEEZED`` (``squeezed``: its compression weights), the vertex's cone is
+    narrowed below that motion's angle (painted cones, ``WdvArea.cone_angles_deg``); the
+    area's own pose, along its vectors, shows as before."""
     for area in areas:
         index = np.flatnonzero(area.authored)
         direction = area.directions[index].astype(np.float64)
         length = area.lengths[index].astype(np.float64)
         full = area.vertex_cones_deg()[index].astype(np.float64)
         cone = full.copy()
-        for pose, motion in motions.items():
-            if pose == area.pose or pose not in squeezed:
-                continue
-            delta = motion[index].astype(np.float64)
+        for delta, squeeze, least in _others(area, index, length, motions, squeezed):
             size = np.linalg.norm(delta, axis=1)
             cos = np.einsum("ij,ij->i", delta, direction) / np.maximum(size, 1e-300)
             alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
             shown = size / np.maximum(length, 1e-300) * (1.0 - alpha / full)
-            crosses = ((size > 0.0) & (alpha < full) & (shown > CROSS_SHOWN)
-                       & (squeezed[pose][index] < CROSS_SQUEEZED))
+            crosses = ((size > 0.0) & (alpha < full) & (shown > least)
+                       & (squeeze < CROSS_SQUEEZED))
             cone = np.where(crosses, np.minimum(cone, np.maximum(CONE_SHRINK * alpha,
                                                                  LEAST_CONE)), cone)
         if (cone < full).any():
@@ -286,6 +289,25 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
                        else area.cone_angles_deg.copy())
             painted[index] = np.where(cone < full, cone, painted[index])
             area.cone_angles_deg = painted
+
+
+def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Array],
+            squeezed: Mapping[str, Array]) -> Iterator[tuple[Array, Array, float]]:
+    """(motion, compression weight) on the area's vertices (``index``) of each other pose, and
+    of each two other poses at once (their motions summed, the larger weight), among those
+    that move the area's skin by ``CROSS_SHOWN`` / 2 of its vectors' length somewhere: a pair
+    that moves it less cannot show its wrinkles, and skipping them keeps the pairs few."""
+    moving = []
+    for pose, motion in motions.items():
+        if pose == area.pose or pose not in squeezed:
+            continue
+        delta = motion[index].astype(np.float64)
+        weight = np.asarray(squeezed[pose])[index]
+        yield delta, weight, CROSS_SHOWN
+        if (np.linalg.norm(delta, axis=1) > 0.5 * CROSS_SHOWN * length).any():
+            moving.append((delta, weight))
+    for (a, weight_a), (b, weight_b) in combinations(moving, 2):
+        yield a + b, np.maximum(weight_a, weight_b), PAIR_SHOWN
 
 
 def merged_links(current: Mapping[str, Mapping[str, float]],

@@ -23,6 +23,7 @@ WRINKLING = {
     "nose": ("noseSneer_L", "noseSneer_R"),
     "nasolabial folds": ("mouthSmile_L", "mouthSmile_R"),
     "chin": ("mouthShrugLower", "mouthFrown_L", "mouthFrown_R"),
+    "lips": ("mouthPucker",),
 }
 # A few expressions, each rising, held and falling back: what the timeline plays.
 EXPRESSIONS = (
@@ -31,6 +32,7 @@ EXPRESSIONS = (
     ("smile", ("mouthSmile_L", "mouthSmile_R", "cheekSquint_L", "cheekSquint_R")),
     ("squint", ("eyeSquint_L", "eyeSquint_R", "noseSneer_L", "noseSneer_R")),
     ("doubt", ("mouthShrugLower", "browInnerUp_L", "browDown_R")),
+    ("kiss", ("mouthPucker",)),
 )
 
 

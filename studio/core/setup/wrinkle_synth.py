@@ -587,7 +587,8 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
     """The lines anatomy places for a pose that lowers a brow (a frown's, between the brows),
     squints (crow's feet at the outer corner of the eye), smiles (a nasolabial fold and the
     cheek bunching under the eye), pulls the mouth corner down (a marionette line), sneers
-    (bunny lines on the side of the nose) or pushes the chin up (a crease under the lower lip:
+    (bunny lines on the side of the nose), purses the lips (short lines standing on their
+    border: ``anatomy_lips``) or pushes the chin up (a crease under the lower lip:
     ``anatomy_lower``), from its
     compression on the skin per triangle (``squeezed``); None for any other pose. Per vertex
     only, so the set-up can find them without synthesising a map: the map's furrows and the
@@ -598,7 +599,8 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
     gain = 1.0
     if places.lowers_brow(mesh.rest, target, total):
         place = partial(anatomy.glabella, midline=places.midline,
-                        **dict(zip(("bottom", "nose"), places.squeezed_band(mean), strict=True)))
+                        **dict(zip(("bottom", "nose", "top"), places.squeezed_band(mean),
+                                  strict=True)))
         gain = anatomy.GLABELLA_GAIN
     elif sides := places.squinting_sides(mesh.rest, target, total):
         place = partial(anatomy.crows_feet, midline=places.midline, sides=sides)
