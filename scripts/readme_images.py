@@ -26,9 +26,11 @@ PANELS = [  # label, technique, expression
     ("surprise · no wrinkles", "none", "surprise"),
     ("surprise · technique 2", "t2", "surprise"),
     ("surprise · technique 1", "t1", "surprise"),
+    ("squint · automatic (strain)", "strain", "squint"),
     ("frown · technique 2", "t2", "frown"),
     ("smile · technique 2", "t2", "smile"),
-    ("squint · automatic (strain), no authoring", "strain", "squint"),
+    ("squint and sneer · technique 2", "t2", "squint"),
+    ("kiss · technique 2", "t2", "kiss"),
 ]
 CLOSE_UPS = [  # the four poses the issue measured, each where it wrinkles
     ("browInnerUp_L", (19, 20, 21, 24)), ("browDown_L", (21, 22, 23, 27)),
@@ -92,7 +94,7 @@ def sample_techniques(project: Project) -> None:
         studio.camera.yaw = 15.0
         tiles = [labelled(studio.render(RenderSettings(technique=t), expression(e)), label)
                  for label, t, e in PANELS]
-    contact_sheet(tiles, 3, "sample_techniques")
+    contact_sheet(tiles, 4, "sample_techniques")
 
 
 def close_ups(project: Project) -> None:
@@ -117,7 +119,8 @@ def close_ups(project: Project) -> None:
 def anatomy_lines(marks: np.ndarray) -> list[tuple[str, np.ndarray]]:
     """Where skin creases on a face, by anatomy (a schematic in model space): forehead lines
     across the brow raise, vertical frown lines between the brows, crow's feet fanning from
-    the eye corners, the nasolabial folds and marionette lines. Polylines of 3-D points."""
+    the eye corners, the nasolabial folds and marionette lines, a pucker's lines on the upper
+    lip. Polylines of 3-D points."""
     up = marks[27] - marks[30]  # nose bridge over nose tip: the face's up, its length a unit
     out = marks[45] - marks[42]  # along the left eye, toward its outer corner
     lines = []
@@ -136,6 +139,10 @@ def anatomy_lines(marks: np.ndarray) -> list[tuple[str, np.ndarray]]:
         lines.append(("nasolabial", np.array([wing + 0.1 * (wing - marks[33]),
                                               0.5 * (wing + corner) + bow, corner + bow * 0.8])))
         lines.append(("marionette", np.array([corner + bow * 0.5, corner - 0.6 * up + bow])))
+    lip = marks[51] - marks[33]  # from the base of the nose down to the upper lip's top
+    for k in (-0.22, -0.1, 0.1, 0.22):  # lip lines, standing on the upper lip's border
+        foot = marks[51] + k * 2.0 * (marks[54] - marks[51])
+        lines.append(("lip", np.array([foot - 0.05 * lip, foot - 0.4 * lip])))
     return lines
 
 

@@ -14,11 +14,10 @@ import pytest
 
 from studio.core.project.ict_head import landmark_vertices, load_ict_head
 from studio.core.setup import anatomy_lips as al
-from studio.core.setup.anatomy import FacePlaces
-from studio.core.setup.face_frame import aim, face_frame
+from studio.core.setup.face_frame import aim
 from studio.core.setup.sample_setup import sample_project
 from studio.core.setup.wrinkle_synth import vertex_lines
-from studio.core.wrinkles.skin_strain import UvStrain
+from tests.test_anatomy_lower import squeezed_poses
 from tests.test_furrow_figures import SIZE, furrow_figures
 
 PURSING = ("mouthPucker", "mouthFunnel")
@@ -30,21 +29,9 @@ OTHERS = ("mouthSmile_L", "mouthStretch_R", "mouthLeft", "mouthRight", "mouthPre
 @pytest.fixture(scope="module")
 def head():
     """The ICT head with the mouth's poses, where each vertex is on its face, and each pose's
-    compression per vertex (the mean over the triangles around it) and per triangle."""
+    compression (``squeezed_poses``)."""
     project = load_ict_head(poses=[*PURSING, *OTHERS])
-    places = FacePlaces.of(face_frame(project), project.mesh.rest, project.skin_weights())
-    mesh = project.skin_mesh()
-    strain = UvStrain(mesh)
-    skin = np.asarray(project.skin_weights(), np.float32)[mesh.welded_triangles].min(axis=1)
-    corners = mesh.welded_triangles.ravel()
-    squeezed = {}
-    for name in (*PURSING, *OTHERS):
-        per_triangle = strain.of(project.pose(name).positions).compression * skin
-        total = np.bincount(corners, np.repeat(per_triangle.astype(np.float64), 3),
-                            mesh.n_welded)
-        squeezed[name] = (total / np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1),
-                          per_triangle)
-    return project, places, mesh, squeezed
+    return (project, *squeezed_poses(project, (*PURSING, *OTHERS)))
 
 
 @pytest.mark.core

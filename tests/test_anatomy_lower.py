@@ -10,10 +10,14 @@ its change under the lower lip (``chin_box``).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 import pytest
 
+from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.ict_head import landmark_vertices
+from studio.core.project.model import Project
 from studio.core.setup.anatomy import FacePlaces
 from studio.core.setup.face_frame import aim, face_frame
 from studio.core.setup.sample_setup import sample_project
@@ -30,22 +34,29 @@ OTHERS = ("browInnerUp_L", "browOuterUp_R", "browDown_L", "mouthSmile_L", "mouth
 
 @pytest.fixture(scope="module")
 def sample():
-    """The sample, where each vertex is on its face, and each pose's compression per vertex
-    (the mean over the triangles around it, as ``vertex_lines`` takes it) and per triangle."""
+    """The sample, where each vertex is on its face, and each pose's compression."""
     project = sample_project()
+    return (project, *squeezed_poses(project, (*SNEERS, SHRUG, *OTHERS)))
+
+
+def squeezed_poses(project: Project, names: Iterable[str]
+                   ) -> tuple[FacePlaces, FaceMesh, dict[str, tuple[np.ndarray, np.ndarray]]]:
+    """Where each vertex is on the face, the skin mesh, and each named pose's compression per
+    vertex (the mean over the triangles around it, as ``vertex_lines`` takes it) and per
+    triangle."""
     places = FacePlaces.of(face_frame(project), project.mesh.rest, project.skin_weights())
     mesh = project.skin_mesh()
     strain = UvStrain(mesh)
     skin = np.asarray(project.skin_weights(), np.float32)[mesh.welded_triangles].min(axis=1)
     corners = mesh.welded_triangles.ravel()
     squeezed = {}
-    for name in (*SNEERS, SHRUG, *OTHERS):
+    for name in names:
         per_triangle = strain.of(project.pose(name).positions).compression * skin
         total = np.bincount(corners, np.repeat(per_triangle.astype(np.float64), 3),
                             mesh.n_welded)
         squeezed[name] = (total / np.maximum(np.bincount(corners, minlength=mesh.n_welded), 1),
                           per_triangle)
-    return project, places, mesh, squeezed
+    return places, mesh, squeezed
 
 
 def test_a_sneer_is_told_by_its_side_and_a_chin_push_from_the_others(sample) -> None:

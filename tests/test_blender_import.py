@@ -120,8 +120,9 @@ def test_blender_imports_every_kind_of_export(exports):
 
 
 def test_blender_imports_the_sample_head(tmp_path):
-    """The sample as the studio opens on it: 53 poses, 17 WDV areas (35 custom attributes)
-    and 17 masks on the ICT head's 28 911 render vertices."""
+    """The sample as the studio opens on it: 53 poses, 18 WDV areas (37 custom attributes:
+    a direction and a cone per area, and the weld) and 18 masks on the ICT head's 28 911
+    render vertices."""
     from studio.core.setup.sample_setup import sample_project
 
     project = sample_project()
@@ -130,4 +131,4 @@ def test_blender_imports_the_sample_head(tmp_path):
     check_import(project, report, positions=False)
     (mesh,) = report["meshes"]
     assert mesh["vertices"] == 28911 and len(mesh["shape_keys"]) == 54
-    assert len(mesh["attributes"]) == 35
+    assert len(mesh["attributes"]) == 2 * len(project.wdv.areas) + 1 == 37

@@ -113,8 +113,8 @@ def test_the_coarse_face_s_furrows_are_long_lines_not_crosshatched_creases(impor
     """Issue 38 on the issue's low-resolution head (1,220 vertices, UVs made by xatlas), front
     view, t1 and t2 against none (tests/test_furrow_figures.py): the brow raise's lines across
     the forehead, the frown's up and down between the brows, the smile's one direction (its
-    nasolabial fold: coherence 0.50 / 0.49 when it drew crosshatched short creases; 0.67 /
-    0.70 now)."""
+    nasolabial fold: coherence 0.50 / 0.49 when it drew crosshatched short creases; 0.71 /
+    0.75 now)."""
     from tests.test_furrow_figures import front_figures
 
     _, project, _ = imported
