@@ -292,3 +292,28 @@ def test_two_other_poses_at_once_do_not_show_an_area_s_wrinkles_where_neither_sq
     shown = _shown(area, b + c)
     assert shown[0] == 0.0 and shown[1] > 0.5
     np.testing.assert_allclose(_shown(area, directions), 1.0)
+
+
+def test_on_a_pose_s_placed_lines_only_poses_with_lines_of_their_own_keep_its_cones():
+    """Both vertices lie on the lines anatomy placed for A. Pose B moves them along (1, 0.2)
+    (11.3°, inside A's 20° cone) and squeezes the skin there (weight 1): without placed lines
+    of its own its squeeze does not count on A's lines, and the cone narrows below 11.3° at
+    both; pose C, the same motion, has placed lines (a cheek raise beside a squint) and keeps
+    the cone where it squeezes (vertex 1). Without ``lines``, B's squeeze kept both."""
+    directions = np.array([[1.0, 0.0, 0.0]] * 2, np.float32)
+    motion = np.array([[1.0, 0.2, 0.0]] * 2, np.float32)
+    angle = np.degrees(np.arctan2(0.2, 1.0))
+    lines = {"A": np.array([True, True]), "C": np.array([False, True])}
+
+    def cones(others: dict, squeezed: dict, placed: dict | None) -> np.ndarray:
+        area = WdvArea("A", "A", directions, np.ones(2, np.float32), cone_angle_deg=20.0)
+        auto.narrow_cones([area], {"A": directions, **others}, {"A": np.ones(2), **squeezed},
+                          placed)
+        return area.vertex_cones_deg()
+
+    squeezing = {"B": np.ones(2)}
+    np.testing.assert_allclose(cones({"B": motion}, squeezing, lines),
+                               auto.CONE_SHRINK * angle, atol=1e-4)
+    np.testing.assert_allclose(cones({"B": motion}, squeezing, None), 20.0)
+    np.testing.assert_allclose(cones({"C": motion}, {"C": np.array([0.0, 1.0])}, lines),
+                               [auto.CONE_SHRINK * angle, 20.0], atol=1e-4)

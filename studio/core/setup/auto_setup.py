@@ -252,12 +252,14 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         mask_taken.append(mask_area.name)
         report.influence_areas.append(mask_area)
         report.links.setdefault(name, {})[mask_area.name] = 1.0
-    narrow_cones(report.wdv_areas, motions, squeezed)
+    narrow_cones(report.wdv_areas, motions, squeezed,
+                 {name: np.asarray(v[0], bool) for name, v in placed.items()})
     return report
 
 
 def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
-                 squeezed: Mapping[str, Array]) -> None:
+                 squeezed: Mapping[str, Array], lines: Mapping[str, Array] | None = None
+                 ) -> None:
     """Keep each pose's motion out of the other poses' wrinkle vectors where it does not
     compress the skin: technique 2 shows an area's wrinkles wherever a motion falls inside its
     cones, so a frown that pushes the outer eye corners the way a squint does would show the
@@ -268,14 +270,17 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
     ``CROSS_SHOWN`` at full weight (two at once: ``PAIR_SHOWN``) and compresses the skin by
     less than ``CROSS_SQUEEZED`` (``squeezed``: its compression weights), the vertex's cone is
     narrowed below that motion's angle (painted cones, ``WdvArea.cone_angles_deg``); the
-    area's own pose, along its vectors, shows as before."""
+    area's own pose, along its vectors, shows as before. ``lines``: {pose: (W,) bool} the
+    vertices of the lines anatomy placed for a pose; on them only another pose with placed
+    lines of its own keeps the cone by squeezing the skin — a brow raise squeezes the skin
+    between the inner eye and the nose, and showed a squint's lines under the eye there."""
     for area in areas:
         index = np.flatnonzero(area.authored)
         direction = area.directions[index].astype(np.float64)
         length = area.lengths[index].astype(np.float64)
         full = area.vertex_cones_deg()[index].astype(np.float64)
         cone = full.copy()
-        for delta, squeeze, least in _others(area, index, length, motions, squeezed):
+        for delta, squeeze, least in _others(area, index, length, motions, squeezed, lines):
             size = np.linalg.norm(delta, axis=1)
             cos = np.einsum("ij,ij->i", delta, direction) / np.maximum(size, 1e-300)
             alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
@@ -292,17 +297,23 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
 
 
 def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Array],
-            squeezed: Mapping[str, Array]) -> Iterator[tuple[Array, Array, float]]:
-    """(motion, compression weight) on the area's vertices (``index``) of each other pose, and
-    of each two other poses at once (their motions summed, the larger weight), among those
-    that move the area's skin by ``CROSS_SHOWN`` / 2 of its vectors' length somewhere: a pair
-    that moves it less cannot show its wrinkles, and skipping them keeps the pairs few."""
+            squeezed: Mapping[str, Array], lines: Mapping[str, Array] | None = None
+            ) -> Iterator[tuple[Array, Array, float]]:
+    """(motion, compression weight, least shown) on the area's vertices (``index``) of each
+    other pose, and of each two other poses at once (their motions summed, the larger
+    weight), among those that move the area's skin by ``CROSS_SHOWN`` / 2 of its vectors'
+    length somewhere: a pair that moves it less cannot show its wrinkles, and skipping them
+    keeps the pairs few. ``lines`` (as for ``narrow_cones``): on the area's own placed lines,
+    a pose without placed lines weighs nothing."""
+    own = None if lines is None else lines.get(area.pose)
     moving = []
     for pose, motion in motions.items():
         if pose == area.pose or pose not in squeezed:
             continue
         delta = motion[index].astype(np.float64)
         weight = np.asarray(squeezed[pose])[index]
+        if own is not None and pose not in lines:
+            weight = np.where(own[index], 0.0, weight)
         yield delta, weight, CROSS_SHOWN
         if (np.linalg.norm(delta, axis=1) > 0.5 * CROSS_SHOWN * length).any():
             moving.append((delta, weight))
