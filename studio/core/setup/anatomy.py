@@ -48,6 +48,7 @@ from studio.core.wrinkles.skin_strain import WRINKLING_COMPRESSION
 
 Array = np.ndarray
 
+STRONG = 98.0  # a pose's strong compression: this percentile over the skin it compresses
 GLABELLA_SHARE = 0.05  # a pose with this share of its compression between the brows …
 DOWNWARD = 0.3  # … and lowers it when its compressed skin moves down by this share of its motion
 # between the brows, for telling a brow lowerer: up to this far out (inner brows' half gap), …
@@ -71,6 +72,7 @@ NOSE_LINE_GAIN = 0.15  # … much shallower than the vertical lines (0.4 outweig
 NOSE_ROOT = 0.17  # … which begin this far above the bottom (without it: at the bottom) …
 GLABELLA_TOP = 1.35  # … and end where the squeezed skin does, no higher than this (face y;
 # the inner brows at 0.83 on the ICT head: 1.5 drew bars up the forehead) …
+GLABELLA_SHORTEST = 0.2  # … (this long at least, face y) …
 GLABELLA_FADE = 0.08  # … fading in over this much at their bottom …
 GLABELLA_TAPER = 0.6  # … and tapering out over this share of their length below their top:
 # deepest low, where the corrugators pull the brows together, shallow as they rise …
@@ -223,6 +225,29 @@ def on_face(box_y: Array) -> Array:
     return smoothstep(FACE_TOP, FACE_TOP - TOP_FADE, box_y).astype(np.float32)
 
 
+def squeezed_share(compression: Array, where: Array) -> float:
+    """How much a pose squeezes the skin ``where`` (a weight per vertex), on average, as a
+    share of its strong compression (the ``STRONG`` percentile of ``compression``, per vertex,
+    over the skin it squeezes at all); 0 if it squeezes none."""
+    weight = np.asarray(compression, np.float64)
+    squeezed = weight[weight > 0.0]
+    total = float(np.sum(where))
+    if squeezed.size == 0 or total <= 0.0:
+        return 0.0
+    return float(where @ weight) / total / max(float(np.percentile(squeezed, STRONG)), 1e-300)
+
+
+def moved_share(rest: Array, target: Array, where: Array, axis: Array) -> float:
+    """How far a pose moves the skin ``where`` (a weight per vertex) along ``axis`` (a model
+    direction), on average, as a share of its largest motion; 0 if it moves nothing."""
+    motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
+    largest = float(np.linalg.norm(motion, axis=1).max(initial=0.0))
+    total = float(np.sum(where))
+    if largest <= 0.0 or total <= 0.0:
+        return 0.0
+    return float(where @ (motion @ axis)) / total / largest
+
+
 def smoothstep(edge0: float, edge1: float, x: Array) -> Array:
     t = np.clip((x - edge0) / (edge1 - edge0), 0.0, 1.0)
     return t * t * (3.0 - 2.0 * t)
@@ -238,13 +263,13 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
     most), on skin that faces forward, with soft edges; there the phase (radians, a line's
     bottom at 0) makes one valley ``LINE_OFFSET`` beside the midline on either side, spreading
     a little as it rises, and flat skin between and beside them: the corrugators' lines. With
-    ``nose``,
-    below them the window holds one shallower horizontal line (at ``NOSE_LINE_GAIN``) across
-    the root of the nose, the procerus's, and the phase runs up and down there."""
+    ``nose``, below them the window holds one shallower horizontal line (at
+    ``NOSE_LINE_GAIN``) across the root of the nose, the procerus's, and the phase runs up and
+    down there."""
     across = np.abs(x - midline) / INNER_BROW  # 1 at the inner ends of the brows
     start = bottom + NOSE_ROOT if nose else bottom
     facing = smoothstep(FACING - 0.08, FACING + 0.08, z)
-    top = min(top, GLABELLA_TOP)
+    top = min(max(top, start + GLABELLA_SHORTEST), GLABELLA_TOP)
     end = top - GLABELLA_DROP * across
     vertical = (smoothstep(SIDE_END, SIDE_FULL, across)
                 * smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)

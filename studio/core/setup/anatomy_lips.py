@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from studio.core.setup.anatomy import FacePlaces, smoothstep
+from studio.core.setup.anatomy import FacePlaces, moved_share, smoothstep, squeezed_share
 
 Array = np.ndarray
 
@@ -46,7 +46,6 @@ PURSE_IN = 0.06  # compression, and draws each mouth corner in by this share of 
 # motion: the lips pursed (the ICT head's pucker: 0.29 and 0.11 each side, its funnel 0.29 and
 # 0.10; a mouth pulled left 0.33 and 0.18 but −0.09, a lip press 0.20 and 0.00, an upper lip
 # raise 0.41 and 0.00, a smile or a stretch outward)
-STRONG = 98.0  # a pose's strong compression: this percentile over the skin it compresses
 CORNER_NEAR = 0.12  # the mouth's corner: the skin this near its landmark (face units)
 
 
@@ -79,22 +78,15 @@ def purses_lips(places: FacePlaces, rest: Array, target: Array, compression: Arr
     stay)."""
     x, y, z = places.xyz.astype(np.float64).T
     out = np.abs(x - places.midline)
-    weight = np.asarray(compression, np.float64)
-    squeezed = weight[weight > 0.0]
-    motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
-    largest = float(np.linalg.norm(motion, axis=1).max(initial=0.0))
     lip = _upper_lip(out, y) * smoothstep(*LIP_FRONT, z) * smoothstep(LIP_SIDE[1], LIP_SIDE[0],
                                                                        out)
-    if squeezed.size == 0 or largest <= 0.0 or lip.sum() <= 0.0:
+    if squeezed_share(compression, lip) < PURSE_SQUEEZED:
         return False
-    strong = max(float(np.percentile(squeezed, STRONG)), 1e-300)
-    if float(lip @ weight) / float(lip.sum()) / strong < PURSE_SQUEEZED:
-        return False
-    across = motion @ places._axis(rest, 0)
+    across = places._axis(rest, 0)
     corner_x, corner_y = UPPER_BORDER[0][-1], UPPER_BORDER[1][-1]
-    for side in (-1.0, 1.0):
-        near = np.hypot(x - places.midline - side * corner_x, y - corner_y) < CORNER_NEAR
-        if not near.any() or -side * float(across[near].mean()) / largest < PURSE_IN:
+    for side in (-1.0, 1.0):  # toward the midline from either corner
+        near = (np.hypot(x - places.midline - side * corner_x, y - corner_y) < CORNER_NEAR)
+        if moved_share(rest, target, near.astype(np.float64), -side * across) < PURSE_IN:
             return False
     return True
 

@@ -27,12 +27,11 @@ from functools import partial
 
 import numpy as np
 
-from studio.core.setup.anatomy import FacePlaces, smoothstep
+from studio.core.setup.anatomy import FacePlaces, moved_share, smoothstep, squeezed_share
 from studio.core.setup.anatomy_lips import lip_lines, purses_lips
 
 Array = np.ndarray
 
-STRONG = 98.0  # a pose's strong compression: this percentile over the skin it compresses
 BEHIND_TIP = (-0.05, -0.1)  # the nose's side and the chin lie behind the tip of the nose (face
 # z, fading in over this; the ICT head's: 0.1 to 0.45 behind): a face, not a flat sheet
 
@@ -117,19 +116,10 @@ def _chin_boss(x: Array, y: Array, z: Array, midline: float) -> Array:
 def _lifted(places: FacePlaces, rest: Array, target: Array, compression: Array,
             where: Array) -> tuple[float, float]:
     """How much a pose squeezes the skin ``where`` (a weight per vertex), on average, as a share
-    of its strong compression (``STRONG`` percentile of ``compression`` where it
-    squeezes at all), and how far it lifts it, on average, as a share of its largest
-    motion."""
-    weight = np.asarray(compression, np.float64)
-    squeezed = weight[weight > 0.0]
-    total = float(where.sum())
-    motion = np.asarray(target, np.float64) - np.asarray(rest, np.float64)
-    largest = float(np.linalg.norm(motion, axis=1).max(initial=0.0))
-    if squeezed.size == 0 or total <= 0.0 or largest <= 0.0:
-        return 0.0, 0.0
-    strong = max(float(np.percentile(squeezed, STRONG)), 1e-300)
-    up = motion @ places._up(rest)
-    return float(where @ weight) / total / strong, float(where @ up) / total / largest
+    of its strong compression, and how far it lifts it, on average, as a share of its largest
+    motion (``anatomy.squeezed_share``, ``anatomy.moved_share``)."""
+    return (squeezed_share(compression, where),
+            moved_share(rest, target, where, places._up(rest)))
 
 
 def sneering_sides(places: FacePlaces, rest: Array, target: Array, compression: Array
