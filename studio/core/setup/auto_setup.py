@@ -18,7 +18,6 @@ from __future__ import annotations
 import colorsys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from itertools import combinations
 
 import numpy as np
 
@@ -280,15 +279,15 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
         length = area.lengths[index].astype(np.float64)
         full = area.vertex_cones_deg()[index].astype(np.float64)
         cone = full.copy()
-        for delta, squeeze, least in _others(area, index, length, motions, squeezed, lines):
+        for at, delta, squeeze, least in _others(area, index, length, motions, squeezed,
+                                                 lines):
             size = np.linalg.norm(delta, axis=1)
-            cos = np.einsum("ij,ij->i", delta, direction) / np.maximum(size, 1e-300)
+            cos = np.einsum("ij,ij->i", delta, direction[at]) / np.maximum(size, 1e-300)
             alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-            shown = size / np.maximum(length, 1e-300) * (1.0 - alpha / full)
-            crosses = ((size > 0.0) & (alpha < full) & (shown > least)
+            shown = size / np.maximum(length[at], 1e-300) * (1.0 - alpha / full[at])
+            crosses = ((size > 0.0) & (alpha < full[at]) & (shown > least)
                        & (squeeze < CROSS_SQUEEZED))
-            cone = np.where(crosses, np.minimum(cone, np.maximum(CONE_SHRINK * alpha,
-                                                                 LEAST_CONE)), cone)
+            np.minimum.at(cone, at[crosses], np.maximum(CONE_SHRINK * alpha[crosses], LEAST_CONE))
         if (cone < full).any():
             painted = (np.zeros(len(area.lengths), np.float32) if area.cone_angles_deg is None
                        else area.cone_angles_deg.copy())
@@ -298,14 +297,18 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
 
 def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Array],
             squeezed: Mapping[str, Array], lines: Mapping[str, Array] | None = None
-            ) -> Iterator[tuple[Array, Array, float]]:
-    """(motion, compression weight, least shown) on the area's vertices (``index``) of each
-    other pose, and of each two other poses at once (their motions summed, the larger
-    weight), among those that move the area's skin by ``CROSS_SHOWN`` / 2 of its vectors'
-    length somewhere: a pair that moves it less cannot show its wrinkles, and skipping them
-    keeps the pairs few. ``lines`` (as for ``narrow_cones``): on the area's own placed lines,
-    a pose without placed lines weighs nothing."""
+            ) -> Iterator[tuple[Array, Array, Array, float]]:
+    """(where, motion, compression weight, least shown) on the area's vertices (``index``;
+    ``where`` indexes them, a vertex perhaps more than once) of each other pose, and of each
+    two other poses at once (their motions summed, the larger weight) where together they
+    move the skin by ``PAIR_SHOWN`` of the vectors' length (less cannot show its wrinkles)
+    and neither squeezes it (else the pair keeps the cone anyway), a pose's pairs with all the
+    poses after it at once: on the ICT head's 53 poses 3.1 times the time of one pose at a
+    time, 4.4 times pair by pair over every vertex (one run, under load).
+    ``lines`` (as for ``narrow_cones``): on the area's own placed lines, a pose without placed
+    lines weighs nothing."""
     own = None if lines is None else lines.get(area.pose)
+    every = np.arange(len(index))
     moving = []
     for pose, motion in motions.items():
         if pose == area.pose or pose not in squeezed:
@@ -314,11 +317,20 @@ def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Ar
         weight = np.asarray(squeezed[pose])[index]
         if own is not None and pose not in lines:
             weight = np.where(own[index], 0.0, weight)
-        yield delta, weight, CROSS_SHOWN
-        if (np.linalg.norm(delta, axis=1) > 0.5 * CROSS_SHOWN * length).any():
-            moving.append((delta, weight))
-    for (a, weight_a), (b, weight_b) in combinations(moving, 2):
-        yield a + b, np.maximum(weight_a, weight_b), PAIR_SHOWN
+        yield every, delta, weight, CROSS_SHOWN
+        reach = np.linalg.norm(delta, axis=1) / np.maximum(length, 1e-300)
+        if reach.max(initial=0.0) > 0.5 * CROSS_SHOWN:
+            moving.append((delta, weight, reach))
+    if len(moving) < 2:
+        return
+    deltas, weights, reaches = (np.stack(v) for v in zip(*moving, strict=True))
+    for i in range(len(moving) - 1):
+        later, at = np.nonzero((reaches[i] + reaches[i + 1:] > PAIR_SHOWN)
+                               & (np.maximum(weights[i], weights[i + 1:]) < CROSS_SQUEEZED))
+        if at.size:  # (where either squeezes the skin, the pair keeps the cone anyway)
+            later = later + i + 1
+            yield (at, deltas[i, at] + deltas[later, at],
+                   np.maximum(weights[i, at], weights[later, at]), PAIR_SHOWN)
 
 
 def merged_links(current: Mapping[str, Mapping[str, float]],
