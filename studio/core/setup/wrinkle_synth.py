@@ -486,9 +486,17 @@ def _bare_image(field: FurrowField, size: int) -> Array | None:
     spacing or so (``BARE_SOFTNESS`` of the map) so that furrows giving way to it fade."""
     if field.bare is None or field.bare.size == 0:
         return None
-    image = np.zeros(size * size, np.float32)
-    image[field.bare] = 1.0
-    return mask_ops.blur(image.reshape(size, size), BARE_SOFTNESS * size)
+    image = np.zeros((size, size), np.float32)
+    rows, cols = np.divmod(field.bare, size)
+    image[rows, cols] = 1.0
+    # blurred around the bare skin only, as far out as the blur reaches (three box passes of
+    # its half-width): the same image, at a fraction of the cost of the whole map's
+    # (the ICT head's 53 poses: 13.8 of a 33 s set-up)
+    reach = 3 * max(round(BARE_SOFTNESS * size / 2.0), 0) + 1
+    r0, r1 = max(int(rows.min()) - reach, 0), min(int(rows.max()) + reach + 1, size)
+    c0, c1 = max(int(cols.min()) - reach, 0), min(int(cols.max()) + reach + 1, size)
+    image[r0:r1, c0:c1] = mask_ops.blur(image[r0:r1, c0:c1], BARE_SOFTNESS * size)
+    return image
 
 
 # --- 4. the map ----------------------------------------------------------------------------------
