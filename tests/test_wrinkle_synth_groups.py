@@ -354,3 +354,23 @@ def test_stopping_during_the_furrows_stops_the_fill():
     before = project.textures.wrinkle_maps["wrinkles"].copy()
     assert synth.fill_placeholder(project, OPTIONS, lambda d, t: d < 2) is None
     np.testing.assert_array_equal(project.textures.wrinkle_maps["wrinkles"], before)
+
+
+@pytest.mark.core
+def test_bare_skin_is_blurred_around_itself_as_over_the_whole_map():
+    """``_bare_image`` blurs only around the bare skin, as far as the blur reaches: the same
+    image, to the bit, as the whole map blurred (a patch in the middle, and one touching the
+    map's corner, where the blur clamps at the edge)."""
+    from studio.core.setup import wrinkle_synth as ws
+    from studio.core.wrinkles import mask_ops
+
+    size = 512
+    for rows, cols in ((slice(200, 230), slice(300, 420)), (slice(0, 12), slice(0, 40))):
+        bare = np.zeros((size, size), np.float32)
+        bare[rows, cols] = 1.0
+        field = ws.FurrowField(np.zeros(0, np.int64), np.zeros(0, np.float32),
+                               np.zeros(0, np.float32), np.zeros(0, np.float32),
+                               np.flatnonzero(bare.ravel()))
+        whole = mask_ops.blur(bare, ws.BARE_SOFTNESS * size)
+        assert np.array_equal(ws._bare_image(field, size), whole)
+        assert whole[rows.start - 4 if rows.start >= 4 else rows.stop + 3, cols.start + 2] > 0.0
