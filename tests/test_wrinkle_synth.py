@@ -80,13 +80,16 @@ def test_furrows_only_in_the_compressed_half(squeeze_height):
     left, right = h[:, : SIZE // 2 - margin], h[:, SIZE // 2 + margin:]
     assert left.min() < -1.5 and (left < -0.5).mean() > 0.1  # real furrows, about 2 deep
     assert not right.any()
-    assert h.max() == 0.0 and h.min() >= -2.0 - 1e-6
+    # never deeper than asked; the skin between furrows bunches up a little, never more
+    assert h.min() >= -OPTIONS.depth - 1e-6
+    assert 0.0 < h.max() <= synth.BUNCH * OPTIONS.depth + 1e-6
 
 
 def test_furrows_run_along_y_across_the_compression(squeeze_height):
     left = squeeze_height[:, : SIZE // 2 - 24]
     gy, gx = np.gradient(left)
-    assert np.abs(gx).mean() > 5.0 * np.abs(gy).mean()
+    # (they wander a little along their length: no two furrows alike, none ruled)
+    assert np.abs(gx).mean() > 3.0 * np.abs(gy).mean()
     # about one furrow per spacing along x: count the valley bottoms along each row
     bottoms = (left[:, 1:-1] < left[:, :-2]) & (left[:, 1:-1] <= left[:, 2:]) & (
         left[:, 1:-1] < -0.5)
@@ -106,7 +109,10 @@ def test_several_poses_take_the_deepest_furrow(squeeze_height):
     mirrored[:, 0] = np.where(mesh.rest[:, 0] > 0.0, mesh.rest[:, 0] * 0.9, mesh.rest[:, 0])
     right = synth.synthesise_height(mesh, [mirrored], OPTIONS)
     both = synth.synthesise_height(mesh, [squeezed(mesh.rest), mirrored], OPTIONS)
-    assert np.array_equal(both, np.minimum(squeeze_height, right))
+    # the deepest furrow over each texel, and the skin most bunched there
+    deepest = np.minimum(np.minimum(squeeze_height, right), 0.0)
+    bunched = np.maximum(np.maximum(squeeze_height, right), 0.0)
+    assert np.array_equal(both, deepest + bunched)
 
 
 def test_not_face_vertices_get_no_furrows():

@@ -169,7 +169,12 @@ def test_a_fields_depth_is_its_amount_in_a_valley_fading_away_from_the_first() -
     f = FurrowField(np.arange(4), np.float32([1.0, 0.5, 1.0, 1.0]), np.zeros(4, np.float32),
                     np.float32([0.0, 0.0, np.pi, 2 * np.pi * 2]))  # the second furrow over
     fade = np.exp(-(2 / synth.FURROWS_EACH_SIDE) ** 2)
-    np.testing.assert_allclose(f.depth(), [1.0, 0.75, 0.0, fade], atol=1e-6)
+    between = np.exp(-(0.5 / synth.FURROWS_EACH_SIDE) ** 2)  # half a spacing from the first
+    # midway between furrows the skin bunches up by BUNCH of their depth
+    np.testing.assert_allclose(f.depth(), [1.0, 0.5, -synth.BUNCH * between, fade], atol=1e-6)
+    f.variation = np.float32([0.6, 1.0, 1.0, 0.5])  # deeper and shallower along their length
+    np.testing.assert_allclose(f.depth(), [0.6, 0.5, -synth.BUNCH * between, 0.5 * fade],
+                               atol=1e-6)
 
 
 def test_groups_get_one_depth_image_each_from_one_pass():

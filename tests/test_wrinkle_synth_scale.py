@@ -89,9 +89,12 @@ def decode(image: np.ndarray) -> np.ndarray:
     return image.astype(np.float64) / top * 2.0 - 1.0
 
 
-def whiteout(detail: np.ndarray, base: np.ndarray) -> np.ndarray:
-    """(b.xy + d.xy, b.z · d.z), normalised: the formula the docstring names."""
-    n = np.array([base[0] + detail[0], base[1] + detail[1], base[2] * detail[2]])
+def reoriented(detail: np.ndarray, base: np.ndarray) -> np.ndarray:
+    """Reoriented normal mapping, t·(t·u)/t.z − u with t = b + (0, 0, 1) and
+    u = d·(−1, −1, 1), normalised: the formula the docstring names."""
+    t = base + np.array([0.0, 0.0, 1.0])
+    u = detail * np.array([-1.0, -1.0, 1.0])
+    n = t * (t @ u) / t[2] - u
     return n / np.linalg.norm(n)
 
 
@@ -105,7 +108,7 @@ def test_furrows_blend_over_the_base_and_flat_texels_keep_it_exactly() -> None:
     assert out.dtype == np.uint8
     for texel in [(0, 0), (1, 0), (1, 1)]:
         assert out[texel].tolist() == base[texel].tolist()
-    expected = whiteout(decode(detail[0, 1]), decode(base[0, 1]))
+    expected = reoriented(decode(detail[0, 1]), decode(base[0, 1]))
     assert np.abs(decode(out[0, 1]) - expected).max() <= 1.0 / 255
 
 
@@ -121,5 +124,5 @@ def test_a_sixteen_bit_base_of_another_size_is_converted_and_resized() -> None:
     for texel in [(2, 0), (2, 1), (3, 1)]:
         assert out[texel].tolist() == as_8_bits.tolist()
     assert out[0, 0].tolist() == [128, 128, 255]
-    expected = whiteout(decode(detail[3, 0]), decode(as_8_bits.astype(np.uint8)))
+    expected = reoriented(decode(detail[3, 0]), decode(as_8_bits.astype(np.uint8)))
     assert np.abs(decode(out[3, 0]) - expected).max() <= 1.0 / 255

@@ -55,6 +55,8 @@ DOWNWARD = 0.3  # … and lowers it when its compressed skin moves down by this 
 DETECT_SIDE = (0.3, 1.7)
 DETECT_HEIGHT = (0.47, 1.44, 0.11)  # … from this high up to this high (face y), fading
 INNER_BROW = 0.167  # the inner ends of the brows, either side of the midline (face x)
+SIDE_BALANCE = 0.5  # a brow lowerer draws a side's line if it squeezes it this much of the other
+SIDE_FADE = (0.05, 0.3)  # … and a one-sided one's window ends this far its side of the midline
 SQUEEZED_LOW = 0.1  # the bottom of a frown's squeezed skin: this share of its compression lies
 SQUEEZED_HIGH = 0.9  # lower (between the brows) — and its top: this share lies lower (room
 SQUEEZED_TOP = 0.95  # for a line across the root of the nose) — and where the lines end: this
@@ -156,6 +158,22 @@ class FacePlaces:
         size = float(weight @ np.linalg.norm(motion, axis=1)) / total
         return size > 0.0 and down > DOWNWARD * size
 
+    def brow_sides(self, per_vertex: Array) -> tuple[float, ...]:
+        """The sides (−1: the character's right, 1: left, face x) whose glabellar line a brow
+        lowerer draws: each side squeezed between the brows (``per_vertex`` compression
+        weights, within ``DETECT_SIDE``'s reach of the midline) by at least ``SIDE_BALANCE``
+        of the more squeezed side — both for a frown, one for a one-sided pose (the ICT
+        head's left brow lowerer squeezes the right side a quarter as much)."""
+        weight = np.asarray(per_vertex, np.float64)
+        offset = (self.xyz[:, 0] - self.midline) / INNER_BROW
+        near = np.abs(offset) <= DETECT_SIDE[1]
+        squeezed = [float(weight[near & (np.sign(offset) == side)].sum()) for side in (-1, 1)]
+        most = max(squeezed)
+        if most <= 0.0:
+            return (-1.0, 1.0)
+        return tuple(side for side, w in zip((-1.0, 1.0), squeezed, strict=True)
+                     if w >= SIDE_BALANCE * most)
+
     def squinting_sides(self, rest: Array, target: Array, compression: Array
                         ) -> tuple[float, ...]:
         """The sides (−1: the character's right, 1: left, face x) on which a pose squints:
@@ -254,7 +272,8 @@ def smoothstep(edge0: float, edge1: float, x: Array) -> Array:
 
 
 def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTOM,
-             nose: bool = True, top: float = GLABELLA_TOP) -> tuple[Array, Array]:
+             nose: bool = True, top: float = GLABELLA_TOP,
+             sides: tuple[float, ...] = (-1.0, 1.0)) -> tuple[Array, Array]:
     """(window, phase) images for a frown's lines from images of face x, y and z (or per-vertex
     arrays of them), on a head whose squeezed skin begins at ``bottom`` (face y:
     ``FacePlaces.squeezed_band``) and ends at ``top``. The window is 1 between the inner
@@ -265,7 +284,9 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
     a little as it rises, and flat skin between and beside them: the corrugators' lines. With
     ``nose``, below them the window holds one shallower horizontal line (at
     ``NOSE_LINE_GAIN``) across the root of the nose, the procerus's, and the phase runs up and
-    down there."""
+    down there. Only on the ``sides`` the pose squeezes (``FacePlaces.brow_sides``): a
+    one-sided brow lowerer draws its own side's line, its window ending just on its side of the
+    midline."""
     across = np.abs(x - midline) / INNER_BROW  # 1 at the inner ends of the brows
     start = bottom + NOSE_ROOT if nose else bottom
     facing = smoothstep(FACING - 0.08, FACING + 0.08, z)
@@ -285,6 +306,8 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
         phase = np.where(across_root > vertical, 2.0 * np.pi * (y - line) / NOSE_LINE_SPACING,
                          phase)
         vertical = np.maximum(vertical, across_root)
+    if len(sides) == 1:  # clear of the midline: the other side's line shares the map
+        vertical = vertical * smoothstep(*SIDE_FADE, sides[0] * (x - midline) / INNER_BROW)
     return (vertical * facing).astype(np.float32), phase.astype(np.float32)
 
 

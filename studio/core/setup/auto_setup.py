@@ -270,9 +270,10 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
     less than ``CROSS_SQUEEZED`` (``squeezed``: its compression weights), the vertex's cone is
     narrowed below that motion's angle (painted cones, ``WdvArea.cone_angles_deg``); the
     area's own pose, along its vectors, shows as before. ``lines``: {pose: (W,) bool} the
-    vertices of the lines anatomy placed for a pose; on them only another pose with placed
-    lines of its own keeps the cone by squeezing the skin — a brow raise squeezes the skin
-    between the inner eye and the nose, and showed a squint's lines under the eye there."""
+    vertices of the lines anatomy placed for a pose; on them only another pose whose own
+    placed lines lie there too keeps the cone by squeezing the skin — a brow raise squeezes
+    the skin between the inner eye and the nose, and showed a squint's lines under the eye
+    there; a left brow lowerer squeezes the right one's line, and showed it."""
     for area in areas:
         index = np.flatnonzero(area.authored)
         direction = area.directions[index].astype(np.float64)
@@ -305,8 +306,9 @@ def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Ar
     and neither squeezes it (else the pair keeps the cone anyway), a pose's pairs with all the
     poses after it at once: 1.6 s for the ICT head's 53 poses, 0.6 s for one pose at a time
     (one run each); pair by pair over every vertex took 1.4 times as long again.
-    ``lines`` (as for ``narrow_cones``): on the area's own placed lines, a pose without placed
-    lines weighs nothing."""
+    ``lines`` (as for ``narrow_cones``): on the area's own placed lines, a pose whose own
+    placed lines do not lie there too weighs nothing (a left brow lowerer squeezes the right
+    one's line a quarter as much as its own, and showed it)."""
     own = None if lines is None else lines.get(area.pose)
     every = np.arange(len(index))
     moving = []
@@ -315,8 +317,10 @@ def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Ar
             continue
         delta = motion[index].astype(np.float64)
         weight = np.asarray(squeezed[pose])[index]
-        if own is not None and pose not in lines:
-            weight = np.where(own[index], 0.0, weight)
+        if own is not None:  # on the area's lines, only a pose whose own lines lie there
+            theirs = lines.get(pose)
+            mine = own[index] if theirs is None else own[index] & ~theirs[index]
+            weight = np.where(mine, 0.0, weight)
         yield every, delta, weight, CROSS_SHOWN
         reach = np.linalg.norm(delta, axis=1) / np.maximum(length, 1e-300)
         if reach.max(initial=0.0) > 0.5 * CROSS_SHOWN:

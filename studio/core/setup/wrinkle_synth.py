@@ -52,18 +52,27 @@ from studio.core.wrinkles.skin_strain import (
     triangle_areas,
 )
 from studio.core.wrinkles.strain import DEFAULT_FULL_AT
+from studio.core.wrinkles.surface_noise import surface_noise
 from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS, FaceTextures, resize_nearest
 
 Array = np.ndarray
 Progress = Callable[[int, int], bool]  # (done, total) -> keep going
 
 WORK_SIZE = 256  # strain fields are smooth: rasterised at most this size, then upsampled
-SHARPNESS = 2.0  # exponent of the valley profile: higher = narrower furrows between flat skin
+SHARPNESS = 1.5  # exponent of the valley profile: higher = narrower furrows between flat skin
+BUNCH = 0.18  # skin bunched between neighbouring furrows, raised this share of their depth
 PEAK_SHARE = 0.5  # a pose's furrows are at full depth from half its strong compression on
 SMOOTH_PEAK_SHARE = 0.4  # … or from this share of its smoothed compression's peak, if less:
 # a small region (an eye's lower lid) blurred at the face's furrow scale stays below full_at
 FURROW_SPACING = 0.025  # between neighbouring furrows, as a share of the face's size …
-DEPTH_PER_SPACING = 0.35  # … and their depth, as a share of the spacing (about 4 texels in 12)
+DEPTH_PER_SPACING = 0.18  # … and their depth, as a share of the spacing: walls tilted about 25°
+# at full depth, as skin's are (0.1–1 mm deep, 0.5–2 mm wide: ../shared/LOOK.md)
+MAX_TILT = 35.0  # degrees: no furrow wall tilts further, however deep poses add up
+GROW_SOFT = 0.25  # depth grows as √(excess compression), eased in over this share of it
+VARY_DEPTH = 0.4  # furrows deepen and fade along their length by this much of their depth …
+VARY_SPACINGS = 3.5  # … over about this many spacings (noise on the surface): no two alike
+WIGGLE = 1.1  # radians of phase a furrow wanders by, over about …
+WIGGLE_SPACINGS = 5.0  # … this many spacings: lines neither ruled nor evenly spaced
 FURROWS_EACH_SIDE = 4.0  # of the deepest furrow, before the others fade to a third
 FURROWS_ACROSS = 4.0  # a region at least this many furrows across, …
 MAX_FINER = 2.0  # … spacing them up to this much closer than the face's spacing
@@ -75,13 +84,13 @@ MAX_PHASE_GAIN = 4.0  # at most this much steeper than the potential of a region
 CROSSING_ANGLE = 30.0  # degrees: furrows of two poses this far apart do not share a map
 CROSSING_SHARE = 0.05  # … when they cross on this share of the smaller pose's furrows
 REVEAL_SHARE = 0.1  # a pose reveals its map where it compresses this share of its strongest
-PLACED_GAIN = 3.5  # a frown's glabellar lines, the deepest an artist paints, this much deeper
+PLACED_GAIN = 1.6  # a frown's glabellar lines, the deepest an artist paints, this much deeper
 PLACED_SHARPNESS = 1.0  # … and as wide as their spacing: a few close lines, no flat between
 FOLD_SHARPNESS = 2.0  # a fold's walls ease into the skin beside it: no rim where they end
 BARE_SOFTNESS = 0.006  # of the map's size: the soft edge where furrows give way to bare skin
 MOVED_SHARE = 0.2  # … and where it moves the skin by this share of its largest motion
 PLACED_WINDOW = 0.05  # anatomy's lines reach the vertices where their window is this much …
-PLACED_SHARE = 0.1  # … and the pose compresses the skin by this share of its strongest there
+PLACED_SHARE = 0.3  # … and the pose compresses the skin by this share of its strongest there
 WINDOW_RINGS = 3  # the pose wrinkles this many triangles around the window, its mask's edge
 FOLD_RINGS = 2  # a fold's vertices: this many triangles around those it lies on, not cut by
 # their edges where the fold is only a few triangles wide
@@ -172,17 +181,30 @@ class FurrowField:
     sharpness: float = SHARPNESS  # … and wider, their walls spanning the whole spacing
     placed: bool = False  # lines anatomy placed (``vertex_lines``)
 
+    variation: Array | None = None  # (n,) depth along the furrows: ``surface_noise``
+
     def depth(self) -> Array:
-        """Each texel's furrow depth in [0, 1]: its amount eased out (a·(2 − a): furrows keep
-        their depth until near their ends, and still fade to nothing) times the valley profile,
-        deepest
-        at the most compressed furrow and shallower the further a furrow lies from it (by
-        ``FURROWS_EACH_SIDE`` furrows, a third as deep): a few furrows, one leading."""
+        """Each texel's furrow height in depth units: positive down a furrow (1 at the bottom
+        of the deepest at full strength), slightly negative on the skin bunched between
+        furrows (``furrow_profile``). Its amount (already grown from the compression,
+        ``grown_depth``) times the profile, deepest at the most compressed furrow and
+        shallower the further a furrow lies from it (by ``FURROWS_EACH_SIDE`` furrows, a
+        third as deep), deepening and fading along its length (``variation``)."""
         reach = np.float32(2.0 * np.pi * FURROWS_EACH_SIDE)
         falloff = np.exp(-(self.phase / reach) ** 2)
-        eased = self.amount * (2.0 - self.amount)
-        return (self.gain * eased * falloff * valley(self.phase, self.sharpness)
-                ).astype(np.float32)
+        vary = 1.0 if self.variation is None else self.variation
+        return (self.gain * self.amount * falloff * vary
+                * furrow_profile(self.phase, self.sharpness)).astype(np.float32)
+
+
+def grown_depth(strength: Array, threshold: float) -> Array:
+    """A furrow's depth from its strength (compression relative to full, in [0, 1]): nothing
+    up to ``threshold``, then growing as the square root of the excess — as thin skin on
+    soft tissue buckles — eased in over its first ``GROW_SOFT`` so a line's ends taper to
+    nothing instead of starting at a step."""
+    excess = np.clip((strength - threshold) / (1.0 - threshold), 0.0, 1.0)
+    ease = np.clip(excess / GROW_SOFT, 0.0, 1.0)
+    return (np.sqrt(excess) * ease * ease * (3.0 - 2.0 * ease)).astype(np.float32)
 
 
 def pose_full_at(compression: Array, full_at: float) -> float:
@@ -241,7 +263,8 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         strength = strength * keep
     lines = None  # where the pose's lines may lie: anywhere it compresses, unless placed
     if placed is not None:
-        strength, phase, c, s = _placed_furrows(amount, _fill_outside(placed[1], covered))
+        strength, phase, c, s = _placed_furrows(amount, _fill_outside(placed[1], covered),
+                                                placed[0])
         lines = mask_ops.resample(placed[0], size).ravel() > 1e-3
         # a fold's window carries its depth along it, from the pose's compression: gated
         # again texel by texel, its edge would follow the compression's patchy border
@@ -253,8 +276,7 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         angle = np.mod(0.5 * np.arctan2(s, c), np.pi)
         phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
         # furrows only inside the regions the phase was laid out on, fading in from their edge
-        strength = strength * np.clip((strength - FURROW_THRESHOLD) / FURROW_THRESHOLD, 0.0,
-                                      1.0) * straight
+        strength = grown_depth(strength, FURROW_THRESHOLD) * straight
     strength = mask_ops.resample(strength, size)
     index = np.flatnonzero(strength > 1e-3)
     c_up = mask_ops.resample((c + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
@@ -295,14 +317,19 @@ def _fill_outside(values: Array, covered: Array, passes: int = 4) -> Array:
     return out.astype(np.float32)
 
 
-def _placed_furrows(amount: Array, phase: Array) -> tuple[Array, Array, Array, Array]:
+def _placed_furrows(amount: Array, phase: Array, window: Array
+                    ) -> tuple[Array, Array, Array, Array]:
     """Strength, phase and doubled-angle direction (cos 2θ, sin 2θ) of furrows whose place
-    and direction anatomy gives (``phase``): wherever the pose compresses the skin at all
-    (its smoothed compression from half ``WRINKLING_COMPRESSION``, full from twice it: these
-    are the pose's signature lines, as deep as an artist paints them however gently the rig
-    squeezes that spot), across the phase's gradient."""
-    strength = np.clip((amount - 0.25 * WRINKLING_COMPRESSION) / (0.75 * WRINKLING_COMPRESSION),
-                       0.0, 1.0).astype(np.float32)
+    and direction anatomy gives (``phase``): grown (``grown_depth``) from the pose's smoothed
+    compression relative to its strong compression inside the lines' ``window`` (the 98th
+    percentile), from ``PLACED_SHARE`` of it on: a pose's signature lines show however
+    gently the rig squeezes that spot, deepest where it squeezes most, on the side a
+    one-sided pose pulls (the other side of a brow lowerer is squeezed a quarter as much),
+    tapering where its squeeze fades — across the phase's gradient."""
+    inside = amount[window > PLACED_WINDOW]
+    strong = max(float(np.percentile(inside, 98)) if inside.size else 0.0,
+                 WRINKLING_COMPRESSION)
+    strength = grown_depth(np.clip(amount / strong, 0.0, 1.0), PLACED_SHARE)
     gy, gx = np.gradient(phase.astype(np.float64))
     norm = np.maximum(gx * gx + gy * gy, 1e-12)
     c = ((gx * gx - gy * gy) / norm).astype(np.float32)
@@ -449,6 +476,13 @@ def _straightness(angle: Array, wavenumber: float) -> Array:
     return np.where(norm > 0.01, straight, 0.0).astype(np.float32)  # no direction: no furrow
 
 
+def furrow_profile(phase: Array, sharpness: float = SHARPNESS) -> Array:
+    """A furrow's cross-section: the ``valley`` (1 at its bottom), less a soft rise of
+    ``BUNCH`` midway between furrows, where compressed skin bunches up."""
+    ridge = ((1.0 - np.cos(phase)) * 0.5) ** 4
+    return valley(phase, sharpness) - BUNCH * ridge
+
+
 def valley(phase: Array, sharpness: float = SHARPNESS) -> Array:
     """1 at the bottom of a furrow (phase 0), falling to 0 between furrows; even in the phase,
     so a field and its conjugate (the same orientation turned by 180°) give the same furrows."""
@@ -463,7 +497,8 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
     shader's four maps crossing poses share one, and a frown must not show a sneer's folds."""
     images = []
     for group in (groups if groups is not None else [range(len(fields))]):
-        depth = np.zeros(size * size, np.float32)
+        depth = np.zeros(size * size, np.float32)  # the deepest furrow over each texel …
+        bunched = np.zeros(size * size, np.float32)  # … and the skin most bunched there
         bare = [_bare_image(fields[i], size) for i in group] if groups is not None else []
         for k, i in enumerate(group):
             furrows = fields[i].depth()
@@ -477,7 +512,8 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
                 revealed = np.clip(np.sum(others, axis=0), 0.0, 1.0).ravel()[fields[i].index]
                 furrows = furrows * (1.0 - revealed)
             np.maximum.at(depth, fields[i].index, furrows)
-        images.append(depth.reshape(size, size))
+            np.minimum.at(bunched, fields[i].index, furrows)
+        images.append((depth + bunched).reshape(size, size))
     return images if groups is not None else images[0]
 
 
@@ -507,8 +543,11 @@ def _encode(normals: Array, dtype: type) -> Array:
 
 
 def over_base(detail: Array, base: Array) -> Array:
-    """The furrows' normals laid over a base normal map's detail (whiteout blend:
-    ``(b.xy + d.xy, b.z·d.z)``); texels the furrows leave flat keep the base's exact values."""
+    """The furrows' normals added to a base normal map's surface (reoriented normal mapping,
+    Barré-Brisebois and Hill 2012: the furrows' normal rotated as the base turns the flat
+    surface, ``t·(t·u)/t.z − u`` with ``t = b + (0, 0, 1)``, ``u = d·(−1, −1, 1)``) — a head's
+    own pores and painted detail keep their shape inside a furrow; texels the furrows leave
+    flat keep the base's exact values."""
     if base.shape[:2] != detail.shape[:2]:
         base = resize_nearest(base, *detail.shape[:2])
     out = base.astype(detail.dtype) if base.dtype == detail.dtype else _encode(
@@ -517,7 +556,9 @@ def over_base(detail: Array, base: Array) -> Array:
     touched = np.any(detail[..., :2] != flat_xy, axis=-1)
     d = to_unit_float(detail[touched]) * 2.0 - 1.0
     b = to_unit_float(out[touched]) * 2.0 - 1.0
-    n = np.c_[b[:, 0] + d[:, 0], b[:, 1] + d[:, 1], b[:, 2] * d[:, 2]]
+    t = b + np.array([0.0, 0.0, 1.0], np.float32)
+    u = d * np.array([-1.0, -1.0, 1.0], np.float32)
+    n = t * (np.sum(t * u, axis=1) / np.maximum(t[:, 2], 1e-6))[:, None] - u
     n /= np.linalg.norm(n, axis=1, keepdims=True)
     out[touched] = _encode(n, detail.dtype)
     return out
@@ -543,6 +584,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
     if places is not None:
         face_xyz = [raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2)]
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
+    vary, wiggle = _surface_variation(mesh, raster, skin, options)
     fields = []
     for i, target in enumerate(targets):
         strain = uv_strain.of(target)
@@ -561,10 +603,28 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
                                  ).astype(np.float32)[mesh.weld])
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
                              options.spacing, placed, moved, keep, area)
+        field.variation = vary.ravel()[field.index]
+        field.phase = field.phase + (0.5 if field.placed else 1.0) * wiggle.ravel()[field.index]
         fields.append(field)
         if progress is not None and not progress(i + 1, total or len(targets)):
             return None
     return fields
+
+
+def _surface_variation(mesh: FaceMesh, raster: UvRaster, skin: Array | None,
+                       options: SynthOptions) -> tuple[Array, Array]:
+    """(size, size) each: how deep furrows run along their length (a share of their depth,
+    between ``1 − VARY_DEPTH`` and 1: never deeper than asked) and how far their phase
+    wanders (radians, about ``WIGGLE``), from noise on the surface (``surface_noise``) at
+    the work size's texels' 3-D points — continuous across UV charts — over a few furrow
+    spacings (``options.spacing`` on the surface)."""
+    density = texels_per_unit(mesh, skin, options.size) or float(options.size)
+    spacing = options.spacing / density
+    xyz = np.stack([raster.image(mesh.rest[mesh.weld, k]) for k in (0, 1, 2)], axis=-1)
+    depth = 1.0 - VARY_DEPTH * 0.5 * (1.0 - np.tanh(surface_noise(xyz, VARY_SPACINGS * spacing)))
+    wander = WIGGLE * surface_noise(xyz, WIGGLE_SPACINGS * spacing, 1)
+    return (_resample_unbounded(depth, options.size).astype(np.float32),
+            _resample_unbounded(wander, options.size).astype(np.float32))
 
 
 def _grown(vertices: Array, triangles: Array, rings: int) -> Array:
@@ -607,6 +667,7 @@ def vertex_lines(places: FacePlaces, mesh: FaceMesh, target: Array, squeezed: Ar
     gain = 1.0
     if places.lowers_brow(mesh.rest, target, total):
         place = partial(anatomy.glabella, midline=places.midline,
+                        sides=places.brow_sides(total),
                         **dict(zip(("bottom", "nose", "top"), places.squeezed_band(mean),
                                   strict=True)))
         gain = anatomy.GLABELLA_GAIN
@@ -646,8 +707,9 @@ def placed_lines(project: Project, poses: Sequence[str] | None = None, frame=Non
                  ) -> dict[str, tuple[Array, Array]]:
     """{pose: ((W,) bool, (W,) bool)} for each pose (all, or ``poses``) whose lines anatomy
     places on a synthesised map (``vertex_lines``): the vertices its technique-2 area must
-    hold to reveal them, and those where anatomy lets its lines lie (its window grown by
-    ``WINDOW_RINGS`` triangles, its mask's edge). ``frame``: the face's frame, if known. What
+    hold to reveal them, and those where anatomy lets its lines lie and the pose draws them
+    (those vertices grown by ``WINDOW_RINGS`` triangles inside the window, its mask's edge:
+    not the side a one-sided pose leaves alone). ``frame``: the face's frame, if known. What
     ``auto_setup.suggest_setup`` uses, from ``new --auto`` and Tools ▸ Auto Setup alike."""
     names = [p.name for p in project.poses] if poses is None else list(poses)
     mesh = project.skin_mesh()
@@ -661,8 +723,8 @@ def placed_lines(project: Project, poses: Sequence[str] | None = None, frame=Non
         target = project.pose(name).positions
         lines = vertex_lines(places, mesh, target, uv_strain.of(target).compression * skin_tri)
         if lines is not None:
-            out[name] = (lines.region, _grown(lines.window > PLACED_WINDOW,
-                                              mesh.welded_triangles, WINDOW_RINGS))
+            out[name] = (lines.region, (lines.window > PLACED_WINDOW) & _grown(
+                lines.region, mesh.welded_triangles, WINDOW_RINGS))
     return out
 
 
@@ -755,23 +817,33 @@ def crossing_groups(fields: Sequence[FurrowField], most: int, size: int,
     return groups or [[]]
 
 
+def texels_per_unit(mesh: FaceMesh, skin: Array | None, size: int) -> float | None:
+    """Texels of a ``size`` map per model unit on the skin (``skin`` per welded vertex; None:
+    all): the square root of the UV area over the 3-D area of its triangles. None for a
+    layout without area."""
+    ok = np.ones(mesh.n_triangles, bool) if skin is None else (
+        np.asarray(skin)[mesh.welded_triangles].min(axis=1) > 0)
+    area_3d = triangle_areas(mesh.rest, mesh.welded_triangles)
+    uv = mesh.uvs[mesh.triangles].astype(np.float64)
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    area_uv = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+    ok = ok & (area_3d > 0) & (area_uv > 0)
+    if not ok.any():
+        return None
+    return float(size * np.sqrt(area_uv[ok].sum() / area_3d[ok].sum()))
+
+
 def face_options(project: Project, size: int) -> SynthOptions:
     """Furrow spacing and depth for this face: a share of its size (``FURROW_SPACING``) turned
     into texels by the skin's UV density, so a face in millimetres or metres, with UVs spread
     over one tile or packed into an atlas cell, gets the same furrows on its skin."""
     mesh = project.mesh
-    skin = project.skin_weights()[mesh.welded_triangles].min(axis=1) > 0
-    area_3d = triangle_areas(mesh.rest, mesh.welded_triangles)
-    uv = mesh.uvs[mesh.triangles].astype(np.float64)
-    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
-    area_uv = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
-    ok = skin & (area_3d > 0) & (area_uv > 0)
-    if not ok.any():
+    density = texels_per_unit(mesh, project.skin_weights(), size)
+    if density is None:
         return SynthOptions(size=size)
-    texels_per_unit = size * np.sqrt(area_uv[ok].sum() / area_3d[ok].sum())
     points = mesh.rest[project.skin_weights() > 0]
     face = float(np.linalg.norm(np.ptp(points, axis=0)))
-    spacing = float(np.clip(FURROW_SPACING * face * texels_per_unit, 3.0, size / 8))
+    spacing = float(np.clip(FURROW_SPACING * face * density, 3.0, size / 8))
     return SynthOptions(size=size, spacing=spacing, depth=DEPTH_PER_SPACING * spacing)
 
 
@@ -797,7 +869,8 @@ def height_to_map(height: Array, neutral: Array, over_neutral: bool = True) -> A
     """Furrow heights as a tangent-space normal map at the neutral map's bit depth, laid over
     its detail unless ``over_neutral`` is False."""
     bits = 16 if neutral.dtype == np.uint16 else 8
-    normal = height_to_normal(height, 0.5, bits=bits)  # central differences span 2 texels
+    normal = height_to_normal(height, 0.5, bits=bits,  # central differences span 2 texels
+                              max_tilt=MAX_TILT)
     return over_base(normal, neutral) if over_neutral else normal
 
 

@@ -13,7 +13,8 @@ Array = np.ndarray
 
 
 def height_to_normal(
-    height: Array, strength: float | tuple[float, float] = 1.0, *, bits: int = 8
+    height: Array, strength: float | tuple[float, float] = 1.0, *, bits: int = 8,
+    max_tilt: float | None = None,
 ) -> Array:
     """Central-difference bump-to-normal conversion of a height map [3.2].
 
@@ -21,7 +22,10 @@ def height_to_normal(
     is the texel *below* (the next image row, since row 0 is the top); ``n = normalize(gx·s,
     gy·s, 1)``, encoded as ``(n·0.5 + 0.5)·max``. Edges are clamped (the border texel is
     repeated). ``strength`` may be a pair ``(s_u, s_v)`` for maps whose texels are not square
-    on the surface. Returns (H, W, 3) uint8, or uint16 with ``bits=16``.
+    on the surface. ``max_tilt`` (degrees) eases slopes toward that tilt and never past it
+    (``|g| → S·tanh(|g|/S)``, S = tan(max_tilt)): gentle slopes keep their shape, cliffs
+    where deep furrows add up become walls skin could have. Returns (H, W, 3) uint8, or
+    uint16 with ``bits=16``.
     """
     if bits not in (8, 16):
         raise ValueError(f"bits must be 8 or 16, got {bits}")
@@ -32,6 +36,12 @@ def height_to_normal(
     su, sv = (strength, strength) if np.isscalar(strength) else strength
     gx = (p[1:-1, :-2] - p[1:-1, 2:]) * np.float32(su)
     gy = (p[2:, 1:-1] - p[:-2, 1:-1]) * np.float32(sv)  # below minus above: rising toward +v → −y
+    if max_tilt is not None:
+        limit = np.float32(np.tan(np.radians(max_tilt)))
+        slope = np.sqrt(gx * gx + gy * gy)
+        ease = np.where(slope > 0, limit * np.tanh(slope / limit) / np.maximum(slope, 1e-12),
+                        1.0).astype(np.float32)
+        gx, gy = gx * ease, gy * ease
     inv = 1.0 / np.sqrt(gx * gx + gy * gy + 1.0)
     top = 255 if bits == 8 else 65535
     out = np.empty((*h.shape, 3), dtype=np.uint8 if bits == 8 else np.uint16)
