@@ -243,6 +243,16 @@ def _no_mesh(stage, mesh):
     stage.RemovePrim(mesh.GetPath())
 
 
+def _lines_only(_stage, mesh):
+    mesh.GetFaceVertexCountsAttr().Set([2, 2, 2, 2])
+
+
+def _transform_not_finite(_stage, mesh):
+    from pxr import Gf
+
+    mesh.AddTransformOp().Set(Gf.Matrix4d(float("nan")))
+
+
 BAD_STAGES = {
     "offsets.usda": (_offsets_for_missing_points,
                      r"mesh /Model/Quads's blend shape 'jawOpen' has 1 offsets for 2 "
@@ -253,6 +263,8 @@ BAD_STAGES = {
                     r"blend shape 'jawOpen' points at /Model/NotAShape, which is not a "
                     r"BlendShape"),
     "empty_stage.usda": (_no_mesh, r"the stage holds no mesh with faces"),
+    "lines.usda": (_lines_only, r"the stage holds no mesh with faces"),
+    "nan.usda": (_transform_not_finite, r"mesh /Model/Quads's transform holds a non-finite"),
 }
 
 
@@ -292,6 +304,21 @@ def assert_one_line_on_the_command_line(path: Path, folder: Path, problem: str) 
     assert len(lines) == 1 and str(path) in lines[0], lines
     assert "Traceback" not in err.getvalue()
     assert re.search(problem, lines[0]), lines
+
+
+def test_what_usd_warns_about_is_said_in_the_report_not_printed(tmp_path, capfd):
+    """A reference to a file that is not there: USD warns and composes the rest; the warning
+    is one line of the report, and nothing is printed beside the command's own lines."""
+    def reference(_stage, mesh):
+        mesh.GetPrim().GetReferences().AddReference("./gone/eyes.usda")
+
+    path = write_quads(tmp_path / "referencing.usda", ("vertex", TILE, None), edit=reference)
+    capfd.readouterr()
+    report: list[str] = []
+    load_usd(path, report=report)
+    assert capfd.readouterr().err == ""
+    assert re.match(r"USD warned: In </Model/Quads>: Could not open asset @\S*gone/eyes\.usda@ "
+                    r"for reference", report[-1]), report
 
 
 def test_a_missing_texture_is_said_and_the_head_opens(tmp_path, usd_files):

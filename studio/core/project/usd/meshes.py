@@ -111,7 +111,10 @@ def _read_mesh(prim, number: int, xforms, frame: StageFrame, sizes: _Sizes,
     if len(points) == 0 or len(counts) == 0:
         return None
     sizes.add_mesh(len(points), int(np.maximum(counts - 2, 0).sum()))
-    if counts.min() < 0 or counts.sum() != len(corner_v):
+    if counts.min() < 0:
+        raise MeshError(f"{where}'s faceVertexCounts hold a negative count "
+                        f"({int(counts.min())})", path)
+    if counts.sum() != len(corner_v):
         raise MeshError(f"{where}'s faceVertexCounts add up to {int(counts.sum())}, its "
                         f"faceVertexIndices are {len(corner_v)}", path)
     outside = corner_v[(corner_v < 0) | (corner_v >= len(points))]
@@ -125,13 +128,17 @@ def _read_mesh(prim, number: int, xforms, frame: StageFrame, sizes: _Sizes,
     materials = face_materials(prim, len(counts), where, path)
     uvs, corner_uv = _uvs(prim, materials, counts, corner_v, len(points), where, path)
     matrix, skinned = _placement(prim, xforms)
+    if not np.isfinite(matrix).all():
+        raise MeshError(f"{where}'s transform holds a non-finite number", path)
     linear = frame.to_studio @ matrix[:3, :3].T
     positions = points @ linear.T + frame.to_studio @ matrix[3, :3]
     shapes = []
     for target in targets:
         index, offset = read_shape(target, len(points), where, path)
         shapes.append((index, offset @ linear.T))
-    keep = _shown_faces(geom, len(counts), where, path)
+    keep = _shown_faces(geom, len(counts), where, path) & (counts >= 3)
+    if not keep.any():  # points, lines or holes only: nothing a face is made of
+        return None
     flip = (str(geom.GetOrientationAttr().Get()) == UsdGeom.Tokens.leftHanded) != (
         np.linalg.det(linear) < 0)
     order = _corner_order(counts, keep, flip)

@@ -22,7 +22,7 @@ from studio.core.project.gltf_materials import _rgb
 from studio.core.project.model import Project
 from studio.core.project.usd.materials import Diffuse, ImageBudget, diffuse_image, texture_path
 from studio.core.project.usd.meshes import UsdMesh, read_meshes
-from studio.core.project.usd.stage import open_stage, stage_frame, usd_reason
+from studio.core.project.usd.stage import heard, listen, open_stage, stage_frame, usd_reason
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 
@@ -33,18 +33,26 @@ def load_usd(path: str | Path, keep: Collection[str] | None = None,
     among its meshes, blend shapes as key poses; ``keep``, ``not_face``, ``kind`` and
     ``report`` as ``load_gltf``'s. MeshError naming the file for anything wrong with it."""
     path = Path(path)
-    stage = open_stage(path)
+    listener = listen(path)
     from pxr import Tf
 
     try:
-        return _project(stage, path, keep, not_face, kind, report)
+        project, lines = _project(open_stage(path), path, keep, not_face, kind)
     except Tf.ErrorException as exc:  # USD refusing a value the file declares
         raise MeshError(f"the USD file is malformed ({usd_reason(exc)})", path) from None
+    except (ValueError, TypeError, IndexError, KeyError, OverflowError) as exc:
+        # a structure no check foresaw: still one line naming the file
+        raise MeshError(f"the USD file is malformed ({type(exc).__name__}: {exc})",
+                        path) from None
+    warned = heard(listener)
+    if report is not None:
+        report += lines + ([warned] if warned else [])
+    return project
 
 
 def _project(stage, path: Path, keep: Collection[str] | None,
-             not_face: Collection[str] | None, kind: str | None,
-             report: list[str] | None) -> Project:
+             not_face: Collection[str] | None, kind: str | None) -> tuple[Project, list[str]]:
+    """The project and the report's lines on what was found."""
     frame = stage_frame(stage, path)
     meshes = read_meshes(stage, frame, path)
     if not meshes:
@@ -71,9 +79,7 @@ def _project(stage, path: Path, keep: Collection[str] | None,
     project = Project(path.stem, mesh, merged.poses, textures, not_face=merged.not_face)
     if frame.authored:  # the stage says which way is up: turned to +Y, it is the studio's word
         project.view["up"] = "+y"
-    if report is not None:
-        report += lines
-    return project
+    return project, lines
 
 
 def _skin_diffuse(meshes: list[UsdMesh], choice: FaceChoice, primitive_of_triangle,

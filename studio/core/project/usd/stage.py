@@ -18,7 +18,7 @@ from studio.core.files.budgets import FILE_BYTES
 from studio.core.files.errors import MeshError
 
 Array = np.ndarray
-_REASON = re.compile(r" : '(.*)'\s*$", re.MULTILINE)
+_REASON = re.compile(r" : '(.*?)'\s*(?=\n\s*Error in |\Z)", re.DOTALL)
 REASON_CHARS = 300  # a reason quoting a whole line of a damaged file is cut here
 # Z up to Y up, the front kept in front: USD's (and Blender's) Z-up faces look down -Y, and
 # turning +Z to +Y takes -Y to +Z, the studio's front.
@@ -29,9 +29,32 @@ _UNITS = {1.0: "metres", 0.01: "centimetres", 0.001: "millimetres", 0.1: "decime
 
 def usd_reason(exc: BaseException) -> str:
     """The reasons in a USD error, without its C++ locations, one after the other."""
-    reasons = [r.strip() for r in _REASON.findall(str(exc)) if r.strip()]
-    text = "; ".join(dict.fromkeys(reasons)) or str(exc).strip() or type(exc).__name__
+    reasons = [" ".join(r.split()) for r in _REASON.findall(str(exc)) if r.strip()]
+    text = "; ".join(dict.fromkeys(reasons)) or " ".join(str(exc).split()) or type(exc).__name__
     return text if len(text) <= REASON_CHARS else text[:REASON_CHARS - 1] + "…"
+
+
+def listen(path: Path):
+    """A listener that keeps USD's warnings (a reference that cannot be found, a value of the
+    wrong type) out of the terminal, for ``heard`` to say in the report; MeshError when
+    usd-core is not installed."""
+    try:
+        from pxr import UsdUtils
+    except ImportError:  # pragma: no cover - usd-core is a dependency
+        raise MeshError("cannot read USD files: usd-core is not installed "
+                        "(pip install usd-core)", path) from None
+    return UsdUtils.CoalescingDiagnosticDelegate()
+
+
+def heard(listener) -> str | None:
+    """The report's line on what USD warned about while the stage was read, None if nothing."""
+    said = [" ".join(str(d.commentary).split()) for d in listener.TakeUncoalescedDiagnostics()]
+    said = [re.sub(r" \(instantiating stage on stage @.*?\)$", "", s) for s in said if s]
+    if not said:
+        return None
+    text = "; ".join(dict.fromkeys(said))
+    text = text if len(text) <= REASON_CHARS else text[:REASON_CHARS - 1] + "…"
+    return f"USD warned: {text}"
 
 
 def open_stage(path: Path):
@@ -42,11 +65,8 @@ def open_stage(path: Path):
     FILE_BYTES.check(path.stat().st_size, "the USD file", path, MeshError)
     if path.stat().st_size == 0:
         raise MeshError("the file is empty", path)
-    try:
-        from pxr import Tf, Usd
-    except ImportError:  # pragma: no cover - usd-core is a dependency
-        raise MeshError("cannot read USD files: usd-core is not installed "
-                        "(pip install usd-core)", path) from None
+    from pxr import Tf, Usd
+
     try:
         stage = Usd.Stage.Open(str(path), Usd.Stage.LoadAll)
     except Tf.ErrorException as exc:
