@@ -334,6 +334,30 @@ def test_a_missing_texture_is_said_and_the_head_opens(tmp_path, usd_files):
     assert not np.array_equal(project.textures.diffuse, skin_texture())
 
 
+def test_a_udim_texture_set_is_said_to_be_given_as_the_diffuse_map(tmp_path, usd_files):
+    """``skin.<UDIM>.png``, a file per tile: the report says how to give it, and given so the
+    head opens with it."""
+    from pxr import Sdf, Usd, UsdShade
+
+    from studio.core.files.images import write_png
+
+    stage = Usd.Stage.Open(str(usd_files[".usda"]))
+    texture = UsdShade.Shader(stage.GetPrimAtPath("/root/_materials/Skin/Image_Texture"))
+    texture.GetInput("file").Set(Sdf.AssetPath("./skin.<UDIM>.png"))
+    path = tmp_path / "udim.usda"
+    stage.Export(str(path))
+    write_png(tmp_path / "skin.1001.png", skin_texture())
+    report: list[str] = []
+    load_usd(path, report=report)
+    said = [line for line in report if "UDIM" in line]
+    assert len(said) == 1 and re.fullmatch(  # Export anchors the path to the original folder
+        r"texture \S*skin\.<UDIM>\.png of material Skin is a UDIM set: give it as the diffuse "
+        r"map \(--diffuse, or Diffuse in New from Files\)", said[0]), report
+    with redirect_stdout(io.StringIO()):
+        assert main(["new", "--mesh", str(path), "--diffuse", str(tmp_path / "skin.<UDIM>.png"),
+                     "-o", str(tmp_path / "udim.wrinkle")]) == 0
+
+
 def test_sizes_over_the_budgets_are_refused_before_the_offsets_are_read(usd_files,
                                                                         monkeypatch):
     """The file's size before it is opened; the points and the numbers every key pose will

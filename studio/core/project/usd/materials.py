@@ -144,6 +144,10 @@ def diffuse_image(material, budget: ImageBudget) -> Diffuse:
     asset = _texture_asset(material)
     if asset is None:
         return Diffuse(None, None)
+    if "<UDIM>" in asset.path.upper():  # one file per tile: the project's maps take such sets
+        return Diffuse(None, f"texture {asset.path} of material "
+                             f"{material.GetPrim().GetName()} is a UDIM set: give it as the "
+                             "diffuse map (--diffuse, or Diffuse in New from Files)")
     resolved = asset.resolvedPath
     opened = Ar.GetResolver().OpenAsset(Ar.ResolvedPath(resolved)) if resolved else None
     if opened is None:
