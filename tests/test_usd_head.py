@@ -156,6 +156,14 @@ def test_uvs_of_every_interpolation_reach_every_corner(tmp_path, interpolation, 
     assert corner_pairs(project) == want
 
 
+def test_a_face_without_uvs_gets_them_made_and_said(tmp_path):
+    path = write_quads(tmp_path / "bare.usda")
+    report: list[str] = []
+    project = load_usd(path, report=report)
+    assert f"no UVs in {path}: made them with xatlas, 1 charts" in report
+    assert project.mesh.uvs.min() >= 0.0 and project.mesh.uvs.max() <= 1.0
+
+
 def test_a_left_handed_mesh_is_turned_to_face_out(tmp_path):
     """The same quads wound the other way and marked leftHanded face the same way."""
     from pxr import UsdGeom

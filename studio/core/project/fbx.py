@@ -31,12 +31,10 @@ import numpy as np
 
 from studio.core.files.budgets import FILE_BYTES, MESH_TRIANGLES, MESH_VERTICES
 from studio.core.files.errors import MeshError
-from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.mesh.unwrap import unwrap
 from studio.core.project.gltf_face import choose_face, merge_face, report_lines
 from studio.core.project.gltf_scene import MeshNode
 from studio.core.project.model import Project
-from studio.core.project.polygons import PolygonMesh, primitives
+from studio.core.project.polygons import PolygonMesh, primitives, unwrapped
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
@@ -74,10 +72,8 @@ def load_fbx(path: str | Path, keep: Collection[str] | None = None,
     lines = [line.replace("glTF scene:", "FBX scene:", 1) for line in report_lines(choice, merged)]
     bare = [i for i in choice.kept_meshes() if len(data[f"m{i}_uvs"]) == 0]
     if bare:  # a face mesh without UVs: the merged face unwrapped as one
-        made = unwrap(mesh.rest, mesh.welded_triangles, str(path))
-        mesh = FaceMesh(made.mesh.rest, made.mesh.triangles, made.mesh.uvs, made.mesh.weld,
-                        str(path))
-        lines.append(made.report(path))
+        mesh, line = unwrapped(mesh, path)
+        lines.append(line)
     name = _UNITS.get(round(unit, 6), f"{unit:g} m")
     lines.append(f"units: the file's ({name}); axes: the file's, turned to Y up, Z front")
     textures = FaceTextures(plain_diffuse(), flat_normal_map(), flat_normal_map())

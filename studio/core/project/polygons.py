@@ -14,6 +14,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.unwrap import unwrap
 from studio.core.project.gltf_scene import Primitive
 
 Array = np.ndarray
@@ -72,3 +74,11 @@ def primitives(mesh: PolygonMesh) -> list[Primitive]:
                                triangles=local.reshape(-1, 3), uvs=uvs[render_uv[used]],
                                offsets={s: o[used] for s, o in enumerate(offsets_all)}))
     return prims
+
+
+def unwrapped(mesh: FaceMesh, path: object) -> tuple[FaceMesh, str]:
+    """The merged face with UVs made by xatlas, as one (a mesh of it had none: UVs made for
+    part of it beside given ones would share one square), and the report's line saying so."""
+    made = unwrap(mesh.rest, mesh.welded_triangles, str(path))
+    return (FaceMesh(made.mesh.rest, made.mesh.triangles, made.mesh.uvs, made.mesh.weld,
+                     str(path)), made.report(path))

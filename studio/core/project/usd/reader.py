@@ -15,11 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from studio.core.files.errors import MeshError
-from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.mesh.unwrap import unwrap
 from studio.core.project.gltf_face import FaceChoice, choose_face, merge_face, report_lines
 from studio.core.project.gltf_materials import _rgb
 from studio.core.project.model import Project
+from studio.core.project.polygons import unwrapped
 from studio.core.project.usd.materials import Diffuse, ImageBudget, diffuse_image, texture_path
 from studio.core.project.usd.meshes import UsdMesh, read_meshes
 from studio.core.project.usd.stage import heard, listen, open_stage, stage_frame, usd_reason
@@ -64,10 +63,8 @@ def _project(stage, path: Path, keep: Collection[str] | None,
              for line in report_lines(choice, merged)]
     bare = [i for i in choice.kept_meshes() if not meshes[i].has_uvs]
     if bare:  # a face mesh without UVs: the merged face unwrapped as one
-        made = unwrap(mesh.rest, mesh.welded_triangles, str(path))
-        mesh = FaceMesh(made.mesh.rest, made.mesh.triangles, made.mesh.uvs, made.mesh.weld,
-                        str(path))
-        lines.append(made.report(path))
+        mesh, line = unwrapped(mesh, path)
+        lines.append(line)
         diffuse = Diffuse(None, None)
     else:
         diffuse = _skin_diffuse(meshes, choice, merged.primitive_of_triangle, path, lines)
