@@ -93,3 +93,18 @@ def _drawn(qtbot, window) -> np.ndarray:
     window.viewport.update()
     qtbot.waitUntil(lambda: window.viewport.frames_rendered > frames, timeout=20000)
     return viewport_image(window)
+
+
+def test_a_usd_file_that_cannot_be_read_is_one_message_naming_it(qtbot, tmp_path,
+                                                                 dialogs) -> None:
+    bad = tmp_path / "broken.usdc"
+    bad.write_bytes(b"PXR-USDC" + b"\xff" * 88)
+    dialog = open_dialog(qtbot)
+    set_auto(qtbot, dialog, False)
+    type_path(qtbot, dialog, bad)
+    qtbot.keyClick(dialog.mesh.edit, Qt.Key.Key_Return)  # Create
+    assert dialog.project is None and dialog.isVisible()
+    assert len(dialogs) == 1 and dialogs[0][0] == "critical"
+    text = dialogs[0][1]
+    assert text.startswith(f"{bad}: cannot read the USD file (Sdf crate file version mismatch")
+    assert "\n" not in text and "pxrInternal" not in text and "Traceback" not in text
