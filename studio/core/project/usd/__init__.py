@@ -8,9 +8,12 @@ own) as key poses, ``primvars:st`` (any interpolation, indexed or not) as UVs, a
 meshes as a glTF's is (core/project/gltf_face.py). The stage's ``upAxis`` and ``metersPerUnit``
 are read: a Z-up stage is turned Y up, lengths stay in the stage's unit and it is said.
 
-Self-contained (only the glTF path's face finding, the polygon primitives and the budgets are
-shared) so that foreign formats can move into a package of their own. usd-core is imported only
-when a USD file is opened: the studio starts without it.
+Self-contained: it shares only the glTF path's face finding (gltf_face.py), the polygon
+primitives FBX uses too (polygons.py), the table of file kinds and the budgets, so that foreign
+formats can move into a package of their own. Modules: stage.py (opening, USD's errors and
+warnings, axes and unit), meshes.py (meshes, placement, UVs), shapes.py (blend shapes and
+in-betweens), materials.py (material subsets, the diffuse texture), reader.py (the project).
+usd-core is imported only when a USD file is opened: the studio starts without it.
 """
 
 from __future__ import annotations
