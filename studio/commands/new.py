@@ -8,6 +8,7 @@ from pathlib import Path
 
 from studio.core.files.errors import StudioError
 from studio.core.files.naming import shown, shown_list
+from studio.core.mesh.file_kinds import kinds_read
 
 
 def parse_pose(text: str) -> tuple[str, str]:
@@ -20,7 +21,8 @@ def parse_pose(text: str) -> tuple[str, str]:
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("new", help="make a project from your own meshes and maps")
     source = p.add_mutually_exclusive_group(required=True)
-    source.add_argument("--mesh", help="neutral mesh (OBJ, PLY, glTF, …)")
+    source.add_argument("--mesh", help=f"neutral mesh ({kinds_read()}; a glTF, VRM, FBX or "
+                        "USD brings its blend shapes as the key poses)")
     source.add_argument("--gltf", help="glTF or VRM with morph targets: they (a VRM's "
                         "expressions) become the key poses; "
                         "in a whole avatar the face is found (the meshes the targets move, "

@@ -5,8 +5,9 @@ keep them all or only the ticked ones (the key poses are cut the same way), and 
 that are not skin (eyes, teeth) so they never wrinkle — suggested by name, as small closed
 shells, and as parts the key poses move rigidly. A glTF's meshes and materials are listed
 the same way, with what was found already ticked: the meshes its morph targets move kept, its
-eyes and teeth not face. A VRM is a glTF; an FBX's face is found the same way, without a
-table (reading one takes a child process: too slow to do while the user types its path).
+eyes and teeth not face. A VRM is a glTF; an FBX's or a USD stage's face is found the same
+way, without a table (reading an FBX takes a child process: too slow to do while the user types
+its path).
 
 Create hands every choice to ``studio.core.setup.new_setup.new_project``, the set-up the
 command line's ``new`` runs too, so a head comes out the same both ways; what it found and
@@ -42,6 +43,7 @@ from PySide6.QtWidgets import (
 )
 
 from studio.core.files.errors import StudioError
+from studio.core.mesh.file_kinds import MESHES, file_filter
 from studio.core.mesh.meshio import ObjGroup, obj_groups
 from studio.core.project.assemble import suggest_not_face, suggest_obj_choice
 from studio.core.project.gltf import gltf_parts
@@ -51,9 +53,9 @@ from studio.widgets.app_settings import remember_folder, settings, start_folder
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.progress import progress_dialog
 
-MESH_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.vrm *.fbx *.stl *.off);;All files (*)"
-# a key pose is a mesh of the neutral's topology; a glTF, VRM or FBX brings its own poses
-POSE_FILTER = "Meshes (*.obj *.ply *.glb *.gltf *.stl *.off);;All files (*)"
+MESH_FILTER = file_filter()  # every kind the studio reads (core/mesh/file_kinds.py)
+# a key pose is a mesh of the neutral's topology; a VRM, FBX or USD brings its own poses
+POSE_FILTER = file_filter(pick=MESHES)
 # Kinds of OBJ part, in the order preferred when two have as many names.
 KIND_LABELS = {"mesh": "Meshes", "group": "Groups (g)", "material": "Materials",
                "object": "Objects (o)"}
@@ -289,8 +291,8 @@ class NewProjectDialog(QDialog):
         self.resize(680, 620)
         self.project: Project | None = None
         self.mesh = FileField("Neutral mesh", MESH_FILTER,
-                              "required: the face in its rest pose (a glTF, VRM or FBX brings "
-                              "its key poses)")
+                              "required: the face in its rest pose (a glTF, VRM, FBX or USD "
+                              "brings its key poses)")
         self.parts = PartsBox()
         self.parts.hide()
         self.mesh.edit.textChanged.connect(self.list_parts)

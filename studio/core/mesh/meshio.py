@@ -11,12 +11,14 @@ the choice made for the neutral mesh is applied to every key pose loaded against
 part of a file is kept, its unused ``v`` are dropped: welded positions are then the used ``v`` in
 file order.
 
-Other formats (PLY, glTF/GLB, OFF, ...) go through trimesh; their render vertices are the file's
-vertices and positions that coincide exactly are welded. A file without UVs (STL and OFF never
-have any, PLY often not) is welded by position and unwrapped by xatlas (core/mesh/unwrap.py):
-its render vertices are then xatlas's, so what a key pose of the same file topology needs (the
-file's vertex count, its triangles, which welded position each file vertex is) is kept beside
-the mesh.
+PLY, STL, OFF and glTF/GLB go through trimesh; any other suffix is refused in one line that
+names what the studio reads and, for a tool's own file (``.blend``, ``.ma``), the export to use
+(core/mesh/file_kinds.py); a head file (VRM, FBX, USD) is read whole by the project assembly.
+Their render vertices are the file's vertices and positions that coincide exactly are
+welded. A file without UVs (STL and OFF never have any, PLY often not) is welded by position
+and unwrapped by xatlas (core/mesh/unwrap.py): its render vertices are then xatlas's, so what a
+key pose of the same file topology needs (the file's vertex count, its triangles, which welded
+position each file vertex is) is kept beside the mesh.
 
 Every problem a user can cause raises ``MeshError`` naming the file and, where it helps, the line,
 face or vertex (numbered from 1, as in the file) — never a bare traceback.
@@ -36,6 +38,7 @@ import numpy as np
 from studio.core.animation.poses import KeyPose
 from studio.core.files.errors import MeshError
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.file_kinds import HEADS, MESHES, head_only, unknown_kind
 from studio.core.mesh.unwrap import unwrap
 
 Array = np.ndarray
@@ -596,16 +599,15 @@ def _load_with_trimesh(path: Path, need_uvs: bool) -> tuple[Array, Array, Array 
     """Vertices, triangles and (if any) UVs of a mesh file trimesh can read. With
     ``need_uvs``, UVs that are there but do not fit the vertices are refused; none at all is
     None (the caller makes them)."""
+    if path.suffix.lower() in HEADS:
+        raise MeshError(head_only(path), path)
+    if path.suffix.lower() not in MESHES:
+        raise MeshError(unknown_kind(path), path)
     suffix = path.suffix.lower().lstrip(".")
     try:
         import trimesh
     except ImportError as exc:  # pragma: no cover - trimesh is a dependency
         raise MeshError(f"cannot read .{suffix} files: trimesh is not installed", path) from exc
-    formats = {f for f in trimesh.available_formats() if "." not in f}
-    formats -= {"obj", "xyz", "zip", "bz2"}
-    if suffix not in formats:
-        known = ", ".join(sorted({"obj", *formats}))
-        raise MeshError(f"unknown mesh format '{path.suffix}' (known: {known})", path)
     try:
         if path.stat().st_size == 0:
             raise MeshError("the file is empty", path)

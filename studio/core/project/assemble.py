@@ -1,11 +1,13 @@
 """A new project from the user's own files: neutral mesh, key-pose meshes, texture maps.
 
-Shared by File ▸ New from Files and the command line. Missing normal maps default to flat ones
-(a face may come with no detail at rest, or no wrinkled map yet); a missing diffuse map to plain
-skin colour. An OBJ's objects, groups and materials, or a glTF's meshes, nodes and materials, can
-be kept in part (``keep``) and marked as not face (``not_face``: eyes, teeth — never wrinkled); a
-glTF's face is found and its not-face parts suggested when they are not named. UDIM-tiled UVs
-are packed into one atlas and texture sets composed into it (``uv_tiles``, ``texture_sets``).
+Shared by File ▸ New from Files and the command line. A glTF, VRM, FBX or USD file is a whole
+head: its blend shapes are the key poses and its face is found among its meshes. Missing normal
+maps default to flat ones (a face may come with no detail at rest, or no wrinkled map yet); a
+missing diffuse map to plain skin colour. An OBJ's objects, groups and materials, or a glTF's
+meshes, nodes and materials, can be kept in part (``keep``) and marked as not face
+(``not_face``: eyes, teeth — never wrinkled); a glTF's face is found and its not-face parts
+suggested when they are not named. UDIM-tiled UVs are packed into one atlas and texture sets
+composed into it (``uv_tiles``, ``texture_sets``).
 """
 
 from __future__ import annotations
@@ -26,6 +28,8 @@ from studio.core.project.gltf import load_gltf
 from studio.core.project.gltf_container import _Gltf
 from studio.core.project.model import Project
 from studio.core.project.texture_sets import load_texture
+from studio.core.project.usd import is_usd
+from studio.core.project.usd.reader import load_usd
 from studio.core.project.vrm import SUFFIX as VRM_SUFFIX
 from studio.core.project.vrm import apply_expressions, check_suffix, vrm_info, vrm_target_names
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
@@ -167,9 +171,10 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
         project = load_gltf(mesh, keep, not_face, part_kind, said)
         _vrm_expressions(project, mesh, said)
         return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name, project)
-    if Path(mesh).suffix.lower() == ".fbx":  # blend shapes as key poses, the face found
+    if Path(mesh).suffix.lower() == ".fbx" or is_usd(mesh):  # blend shapes as key poses
+        load = load_usd if is_usd(mesh) else load_fbx
         return _from_gltf(mesh, poses, diffuse, normal, wrinkled, name,
-                          load_fbx(mesh, keep, not_face, part_kind, report))
+                          load(mesh, keep, not_face, part_kind, report))
     not_face = not_face or ()
     face = load_mesh(mesh, keep, part_kind)
     from studio.core.mesh.meshio import made_uvs

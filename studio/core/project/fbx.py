@@ -31,11 +31,10 @@ import numpy as np
 
 from studio.core.files.budgets import FILE_BYTES, MESH_TRIANGLES, MESH_VERTICES
 from studio.core.files.errors import MeshError
-from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.mesh.unwrap import unwrap
 from studio.core.project.gltf_face import choose_face, merge_face, report_lines
-from studio.core.project.gltf_scene import MeshNode, Primitive
+from studio.core.project.gltf_scene import MeshNode
 from studio.core.project.model import Project
+from studio.core.project.polygons import PolygonMesh, primitives, unwrapped
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
@@ -73,10 +72,8 @@ def load_fbx(path: str | Path, keep: Collection[str] | None = None,
     lines = [line.replace("glTF scene:", "FBX scene:", 1) for line in report_lines(choice, merged)]
     bare = [i for i in choice.kept_meshes() if len(data[f"m{i}_uvs"]) == 0]
     if bare:  # a face mesh without UVs: the merged face unwrapped as one
-        made = unwrap(mesh.rest, mesh.welded_triangles, str(path))
-        mesh = FaceMesh(made.mesh.rest, made.mesh.triangles, made.mesh.uvs, made.mesh.weld,
-                        str(path))
-        lines.append(made.report(path))
+        mesh, line = unwrapped(mesh, path)
+        lines.append(line)
     name = _UNITS.get(round(unit, 6), f"{unit:g} m")
     lines.append(f"units: the file's ({name}); axes: the file's, turned to Y up, Z front")
     textures = FaceTextures(plain_diffuse(), flat_normal_map(), flat_normal_map())
@@ -94,49 +91,25 @@ def _axes_matrix(path: Path, axes: list[int]) -> Array:
 
 
 def _mesh_node(data, i: int, to_studio: Array) -> MeshNode:
-    """One mesh instance as the glTF path's ``MeshNode``: corners split per (vertex, UV),
-    polygons fanned, one primitive per material."""
+    """One mesh instance as the glTF path's ``MeshNode`` (core/project/polygons.py: corners
+    split per (vertex, UV), polygons fanned, one primitive per material)."""
     world = np.asarray(data[f"m{i}_matrix"], np.float64).reshape(4, 4)
     linear = to_studio @ world[:3, :3]
     positions = (np.asarray(data[f"m{i}_positions"], np.float64) @ linear.T
                  + to_studio @ world[:3, 3])
-    corner_v = np.asarray(data[f"m{i}_corners"], np.int64)
-    sizes = np.asarray(data[f"m{i}_sizes"], np.int64)
-    uvs = np.asarray(data[f"m{i}_uvs"], np.float64).reshape(-1, 2)
-    corner_uv = np.asarray(data[f"m{i}_uv_index"], np.int64)
-    if len(uvs) == 0:
-        uvs, corner_uv = np.zeros((1, 2)), np.zeros_like(corner_v)
-    keep = sizes >= 3
-    starts = (np.cumsum(sizes) - sizes)[keep]
-    per = sizes[keep] - 2
-    face = np.repeat(np.arange(len(per)), per)
-    k = np.arange(int(per.sum())) - np.repeat(np.cumsum(per) - per, per) + 1
-    corners = np.stack([starts[face], starts[face] + k, starts[face] + k + 1], axis=1)
-    key = corner_v * len(uvs) + corner_uv
-    unique, inverse = np.unique(key, return_inverse=True)
-    render_v, render_uv = unique // len(uvs), unique % len(uvs)
-    triangles = inverse.reshape(-1)[corners]
-    material = np.asarray(data[f"m{i}_face_material"], np.int64)[keep][face]
-    names = [str(n) for n in data[f"m{i}_materials"]] or [""]
     shape_names = [str(n) for n in data[f"m{i}_shapes"]]
-    offsets_all = []
-    for s in range(len(shape_names)):
-        full = np.zeros((len(positions), 3))
-        full[np.asarray(data[f"m{i}_s{s}_index"], np.int64)] = (
-            np.asarray(data[f"m{i}_s{s}_offset"], np.float64) @ linear.T)
-        offsets_all.append(full[render_v])
-    prims = []
-    for m in np.unique(np.clip(material, 0, len(names) - 1)):
-        tris = triangles[np.clip(material, 0, len(names) - 1) == m]
-        used, local = np.unique(tris, return_inverse=True)
-        prims.append(Primitive(material=int(m), material_name=names[int(m)],
-                               positions=positions[render_v[used]],
-                               triangles=local.reshape(-1, 3),
-                               uvs=uvs[render_uv[used]],
-                               offsets={s: o[used] for s, o in enumerate(offsets_all)}))
+    shapes = [(np.asarray(data[f"m{i}_s{s}_index"], np.int64),
+               np.asarray(data[f"m{i}_s{s}_offset"], np.float64) @ linear.T)
+              for s in range(len(shape_names))]
+    mesh = PolygonMesh(positions, np.asarray(data[f"m{i}_sizes"], np.int64),
+                       np.asarray(data[f"m{i}_corners"], np.int64),
+                       np.asarray(data[f"m{i}_uvs"], np.float64).reshape(-1, 2),
+                       np.asarray(data[f"m{i}_uv_index"], np.int64),
+                       np.asarray(data[f"m{i}_face_material"], np.int64),
+                       [str(n) for n in data[f"m{i}_materials"]] or [""], shapes)
     return MeshNode(node=i, node_name=str(data[f"m{i}_node"]), mesh=i,
                     mesh_name=str(data[f"m{i}_name"]), skinned=bool(data[f"m{i}_skinned"]),
-                    target_names=shape_names, primitives=prims)
+                    target_names=shape_names, primitives=primitives(mesh))
 
 
 def _read_in_child(path: Path) -> dict[str, Array]:
