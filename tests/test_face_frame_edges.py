@@ -229,7 +229,8 @@ def test_a_pose_that_only_moves_the_head_deforms_nothing():
     given without names are fine)."""
     frame = detect_face_frame(GRID, GRID_TRIS, [GRID + np.array([0.5, 0.2, 0.1])])
     assert frame.how == (
-        "up +Z (the longer of the Y and Z extents; give --up to choose); no "
+        "up +Z (the longer of the Y and Z extents; give --up to choose); how sure of up: "
+        "unsure, 0.10; no "
         "key pose deforms the skin: the face is taken to be the upper skin; "
         "front -Y (the usual convention with that up axis)"
     )

@@ -259,22 +259,9 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
         up_vec = parse_axis(up)
         notes.append(f"up {axis_name(up_vec)} (as given)")
     else:
-        up_vec, reason = _up_from_poses(rest, poses, pose_names, skin, size)
-        if up_vec is None:
-            ext = np.ptp(skin_points, axis=0)
-            up_vec = np.array(AXES["+z"] if ext[2] > ext[1] * 1.001 else AXES["+y"], float)
-            reason = "the longer of the Y and Z extents; give --up to choose"
-        if face.sum() >= 3:
-            across = _up_across_facing(rest, triangles, face, skin, up_vec)
-            if across is not None:
-                up_vec, reason = across
-        if features is not None:
-            if np.allclose(features.up, up_vec):
-                reason += "; the eyes above the nose agree"
-            else:
-                up_vec = features.up
-                reason = f"the eyes above the nose ({features.eyes_from}); give --up to choose"
-        notes.append(f"up {axis_name(up_vec)} ({reason})")
+        up_vec, reason, sure = _weigh_up(rest, triangles, poses, pose_names, skin, size, face,
+                                         features)
+        notes += [f"up {axis_name(up_vec)} ({reason})", sure]
 
     # front
     given_front = None if front is None else parse_axis(front)
@@ -283,7 +270,7 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
             raise StudioError(f"the front {axis_name(given_front)} is not at right angles to "
                               f"the up {axis_name(up_vec)}")
         up_vec = np.array(AXES["+z"] if abs(given_front[1]) > 0.5 else AXES["+y"], float)
-        notes[-1] = f"up {axis_name(up_vec)} (at right angles to the front given)"
+        notes[-2:] = [f"up {axis_name(up_vec)} (at right angles to the front given)"]
     if given_front is not None:
         front_vec, reason = given_front, "as given"
         region = face if face.sum() >= 3 else _front_guess(rest, skin, up_vec)
@@ -294,7 +281,9 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
         region = _front_guess(rest, skin, up_vec)
         front_vec, reason = _conventional_front(up_vec)
         notes.append("no key pose deforms the skin: the face is taken to be the upper skin")
-    if (given_front is None and features is not None
+    # the nose ahead of the eyes only counts where the eyes above the nose gave this up:
+    # eyes found upside down put the nose behind them too
+    if (given_front is None and features is not None and np.allclose(features.up, up_vec)
             and abs(float(np.dot(features.front, up_vec))) < 1e-9):
         if np.allclose(features.front, front_vec):
             reason += "; the nose ahead of the eyes agrees"
@@ -324,15 +313,81 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
                      bool(face.sum() >= 3))
 
 
+@dataclass(frozen=True)
+class _UpEvidence:
+    """One way of telling up: the axis it gives, in words, and how sure it is (0 … 1)."""
+
+    up: Array
+    words: str
+    sure: float
+    detail: str = ""  # what the sureness rests on, for the report
+
+
+# how sure each kind of evidence is at best: eye parts and eye openings are hard to mistake;
+# pits in a closed skin may be a mouth's corners or a nostril's hollows; extents are a guess
+ANATOMY_SURE = {"eye parts": 0.9, "eye holes in the skin": 0.75, "eye sockets": 0.4}
+EXTENTS_SURE = 0.1
+FACING_SURE = 0.3  # the way the face looks and its symmetry, with no motion to go by
+
+
+def _sure_words(sure: float) -> str:
+    """How sure, in words and as a number: "sure, 0.86"."""
+    word = "sure" if sure >= 0.75 else "fairly sure" if sure >= 0.5 else "unsure"
+    return f"{word}, {sure:.2f}"
+
+
+def _weigh_up(rest: Array, triangles: Array, poses: Sequence[Array], names: Sequence[str],
+              skin: Array, size: float, face: Array, features: FaceFeatures | None
+              ) -> tuple[Array, str, str]:
+    """Up, the words saying what decided it, and a note saying how sure and what else said
+    so. The poses' motion (or, without it, the longer extent) is corrected across the way the
+    face looks; the eyes above the nose confirm it, or overrule it only when they are the
+    surer evidence: pits taken for eye sockets on a mask without eyes may be its mouth
+    corners, and never turn over a face whose brows rise and whose jaw opens the other way."""
+    found = _up_from_poses(rest, poses, names, skin, size)
+    if found is None:
+        ext = np.ptp(rest[skin] if skin.any() else rest, axis=0)
+        longer = AXES["+z"] if ext[2] > ext[1] * 1.001 else AXES["+y"]
+        found = _UpEvidence(np.array(longer, float), "the longer of the Y and Z extents; give "
+                            "--up to choose", EXTENTS_SURE)
+    if face.sum() >= 3:
+        across = _up_across_facing(rest, triangles, face, skin, found.up)
+        if across is not None:
+            # the face cannot look along its own up: a correction, as sure as what it corrects
+            found = _UpEvidence(across[0], across[1], max(found.sure, FACING_SURE))
+    details = [found.detail] if found.detail else []
+    winner = found
+    if features is not None:
+        eyes = _UpEvidence(features.up, f"the eyes above the nose ({features.eyes_from})",
+                           ANATOMY_SURE.get(features.eyes_from, ANATOMY_SURE["eye sockets"]))
+        if np.allclose(eyes.up, found.up):
+            # two independent signs agreeing: surer than either
+            winner = _UpEvidence(found.up, found.words,
+                                 1.0 - (1.0 - found.sure) * (1.0 - eyes.sure))
+            details.append(f"{eyes.words} agree")
+        else:
+            winner, loser = (eyes, found) if eyes.sure > found.sure else (found, eyes)
+            if winner is eyes:
+                winner = _UpEvidence(eyes.up, eyes.words + "; give --up to choose", eyes.sure)
+            verb = "say" if loser is eyes else "says"
+            details.append(f"{loser.words.split(';')[0]} {verb} {axis_name(loser.up)}, less "
+                           f"sure ({loser.sure:.2f}): overruled")
+    shown = f" ({'; '.join(details)})" if details else ""
+    return winner.up, winner.words, f"how sure of up: {_sure_words(winner.sure)}{shown}"
+
+
 def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], skin: Array,
-                   size: float) -> tuple[Array | None, str]:
+                   size: float) -> _UpEvidence | None:
     """Up from the poses whose names say which way they move the skin: each votes for the
-    axes by its mean motion's component along them (signed by up or down), and the axis with
+    axes by its mean motion's direction along them (signed by up or down), and the axis with
     the most votes wins — a one-sided frown that mostly pulls sideways still says "down" a
-    little, and a brow raise says "up" a lot."""
+    little, and a brow raise says "up" a lot. How sure: the poses' mean agreement with the
+    axis (1 when every one moves straight along it), less for few poses (one pose may be
+    misnamed: n / (n + 1))."""
     votes = np.zeros(len(AXES))
     axes = np.array(list(AXES.values()), np.float64)
     used = []
+    directions = []
     # ARKit names are unambiguous: when a rig has them, only they vote
     words = not any(_pose_direction(name, False) for name in names)
     for name, positions in zip(names, poses, strict=False):
@@ -345,13 +400,18 @@ def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], sk
             continue
         mean = motion[length > 0.2 * length.max()].mean(axis=0)
         if np.linalg.norm(mean) > 0:
-            votes += sign * axes @ (mean / np.linalg.norm(mean))
+            directions.append(sign * mean / np.linalg.norm(mean))
             used.append(name)
+    if directions:
+        votes = axes @ np.sum(directions, axis=0)
     if not used or votes.max() < 0.5:
-        return None, ""
+        return None
     best = int(np.argmax(votes))
+    agreeing = sum(float(d @ axes[best]) > 0.5 for d in directions)
+    sure = float(np.clip(votes[best] / len(used), 0.0, 1.0)) * len(used) / (len(used) + 1)
     shown = ", ".join(used[:3]) + (" …" if len(used) > 3 else "")
-    return axes[best], f"from the motion of {shown}"
+    return _UpEvidence(axes[best], f"from the motion of {shown}", sure,
+                       f"{agreeing} of {len(used)} moving that way")
 
 
 def _features(rest: Array, triangles: Array, skin: Array, face: Array) -> FaceFeatures | None:
