@@ -35,7 +35,12 @@ from studio.core.animation.pose_names import canonical
 from studio.core.files.errors import StudioError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.face_regions import region_name
-from studio.core.setup.face_features import FaceFeatures, asymmetry, find_face_features
+from studio.core.setup.face_features import (
+    FaceFeatures,
+    asymmetry,
+    find_face_features,
+    unique_edges,
+)
 
 Array = np.ndarray
 
@@ -223,12 +228,6 @@ def _face_region(per_pose: Array, skin: Array) -> tuple[Array, Array | None]:
     return face, shared
 
 
-def _edges(triangles: Array) -> Array:
-    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    e.sort(axis=1)
-    return np.unique(e, axis=0)
-
-
 def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = (),
                       pose_names: Sequence[str] = (), skin: Array | None = None,
                       up: str | None = None, front: str | None = None) -> FaceFrame:
@@ -247,7 +246,8 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     face = np.zeros(len(rest), bool)
     chin_region = None
     if poses:
-        face, chin_region = _face_region(_deformations(rest, poses, _edges(triangles)), skin)
+        edges = unique_edges(triangles)[0]
+        face, chin_region = _face_region(_deformations(rest, poses, edges), skin)
 
     # the eyes and the nose tip: anatomy, which no name, extent or winding can mislead
     features = None
