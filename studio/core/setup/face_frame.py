@@ -51,6 +51,12 @@ DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation i
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
 BODY_HEIGHTS = 4.0  # skin this many face boxes tall is a body, not a head and neck …
 HEAD_REACH = (1.8, (-1.5, 1.8), 2.6)  # … whose skin past these (face |x|, y, |z|) is not face
+UPPER_SKIN = "no key pose deforms the skin: the face is taken to be the upper skin"
+# the sample's face box from the eyes' middle (centre offset) and its half-extents, in the
+# distance between the eyes, along (left, up, front): measured on the production test head at
+# 900, 2172 and 5000 vertices (the centre 0.15-0.17 below the eyes and 0.85 behind, the
+# halves 1.28-1.31, 1.39-1.42, 1.47)
+EYES_BOX = ((0.0, -0.17, -0.85), (1.3, 1.4, 1.47))
 MANY_POSES = 10  # in a rig of this many poses or more, the face ends below where two of them …
 SHARED_LEAST = 0.25  # … deform the skin, unless that is under a quarter of what any of them does
 
@@ -280,7 +286,7 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     else:  # nothing shows where the face is: the convention that goes with the up axis
         region = _front_guess(rest, skin, up_vec)
         front_vec, reason = _conventional_front(up_vec)
-        notes.append("no key pose deforms the skin: the face is taken to be the upper skin")
+        notes.append(UPPER_SKIN)
     # the nose ahead of the eyes only counts where the eyes above the nose gave this up:
     # eyes found upside down put the nose behind them too
     if (given_front is None and features is not None and np.allclose(features.up, up_vec)
@@ -300,6 +306,12 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
         lo[1] = np.percentile(rest[chin_region] @ up_vec, 1)
     centre_local = (lo + hi) / 2.0
     half = np.maximum((hi - lo) / 2.0 * MARGIN, 1e-3 * size)
+    if (face.sum() < 3 and features is not None and np.allclose(features.up, up_vec)
+            and np.allclose(features.front, front_vec)):
+        # no pose shows the face, but its eyes and nose do: boxed as the sample's face is
+        centre_local, half = _box_from_eyes(features, basis)
+        notes[notes.index(UPPER_SKIN)] = ("no key pose deforms the skin: the face is boxed "
+                                         "around its eyes and nose")
     centre = basis @ centre_local
     def floats(v: Array) -> tuple[float, float, float]:
         return tuple(float(x) for x in v)  # type: ignore[return-value]
@@ -327,7 +339,7 @@ class _UpEvidence:
 # pits in a closed skin may be a mouth's corners or a nostril's hollows; extents are a guess
 ANATOMY_SURE = {"eye parts": 0.9, "eye holes in the skin": 0.75, "eye sockets": 0.4}
 EXTENTS_SURE = 0.1
-FACING_SURE = 0.3  # the way the face looks and its symmetry, with no motion to go by
+FACING_SURE = 0.6  # the way a flat face looks and its symmetry (up's sign is a guess)
 
 
 def _sure_words(sure: float) -> str:
@@ -352,9 +364,10 @@ def _weigh_up(rest: Array, triangles: Array, poses: Sequence[Array], names: Sequ
                             "--up to choose", EXTENTS_SURE)
     if face.sum() >= 3:
         across = _up_across_facing(rest, triangles, face, skin, found.up)
-        if across is not None:
-            # the face cannot look along its own up: a correction, as sure as what it corrects
-            found = _UpEvidence(across[0], across[1], max(found.sure, FACING_SURE))
+        # the face cannot look along its own up: corrected where the way it looks is surer
+        # than what said up (a jaw opening's chin looks down as much as ahead: not surer)
+        if across is not None and FACING_SURE * across[2] > found.sure:
+            found = _UpEvidence(across[0], across[1], FACING_SURE * across[2])
     details = [found.detail] if found.detail else []
     winner = found
     if features is not None:
@@ -428,20 +441,25 @@ def _features(rest: Array, triangles: Array, skin: Array, face: Array) -> FaceFe
 
 
 def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, up: Array
-                      ) -> tuple[Array, str] | None:
+                      ) -> tuple[Array, str, float] | None:
     """A better up when the one found is the way the face looks (a face's up is across its
     facing): a blink that moves the lid toward the camera, a ponytail longer than the head is
     tall. The face region's surface gives the facing (its area-weighted normals); of the two
     axes across it, the skin is mirror-symmetric across one (its left–right axis; the skin, as
-    the region one pose moves may be one side of it): up is the other, positive. None when the
-    up found is across the facing already."""
+    the region one pose moves may be one side of it): up is the other, positive. With how
+    surely the region looks one way (``sure``: the normals' sum over the sum of their lengths).
+    None when the up found is across the facing already."""
     tri = triangles[face[triangles].all(axis=1)]
     if not len(tri):
         return None
     p = rest[tri]
-    facing = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]).sum(axis=0)
+    normals = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    facing = normals.sum(axis=0)
     if np.linalg.norm(facing) == 0:
         return None
+    # how surely the region looks one way: 1 for a flat lid, less for skin wrapping round
+    # a chin (whose underside looks down as much as its front looks ahead)
+    sure = float(np.linalg.norm(facing) / np.linalg.norm(normals, axis=1).sum())
     facing, snapped = _snap(facing)
     if not snapped or abs(float(np.dot(facing, up))) < 0.5:
         return None
@@ -451,7 +469,17 @@ def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, u
     left = min(across, key=lambda axis: asymmetry(points, axis))
     up_vec = next(a for a in across if a is not left)
     return up_vec, (f"across the way the face looks ({axis_name(facing)}) and its left–right "
-                    "symmetry; give --up to choose")
+                    "symmetry; give --up to choose"), sure
+
+
+def _box_from_eyes(features: FaceFeatures, basis: Array) -> tuple[Array, Array]:
+    """The face's box (centre and half-extents in face axes) from its eyes and nose, in the
+    proportions of the sample's face, whose poses deform it from hairline to chin
+    (``EYES_BOX``): a head without poses is framed on its face, not its crown."""
+    eyes = np.asarray(features.eyes, np.float64)
+    apart = float(np.linalg.norm(eyes[0] - eyes[1]))
+    centre_offset, half = (np.asarray(v, np.float64) * apart for v in EYES_BOX)
+    return eyes.mean(axis=0) @ basis + centre_offset, half
 
 
 def _conventional_front(up: Array) -> tuple[Array, str]:
