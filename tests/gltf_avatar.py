@@ -117,9 +117,50 @@ def _box(centre: tuple[float, float, float], size: tuple[float, float, float]
     return corners * size + centre, faces, uv
 
 
-def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner") -> Path:
+BROW_CARDS = ("MASK", "BLEND", "texture")
+
+
+def brow_card(skin, face_xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                   np.ndarray]:
+    """Eyebrow cards as a VRoid avatar has them: the skin's triangles over both brows copied
+    half a millimetre in front of it, moving with it in every pose (so a brow lowerer squeezes
+    them as it squeezes the brow). (welded skin vertex each card vertex copies, its offset
+    along the skin's normal in sample units, triangles, UVs over the brow texture)."""
+    from studio.core.project.sample_mesh import BROW_Y, vertex_normals
+
+    x, y = face_xy[:, 0], face_xy[:, 1]
+    over = (np.abs(x) > 0.04) & (np.abs(x) < 0.36) & (np.abs(y - BROW_Y) < 0.05)
+    over &= skin.rest[:, 2] > 0.2
+    welded = skin.weld[skin.triangles]
+    tris = welded[over[welded].all(axis=1)]
+    source, local = np.unique(tris, return_inverse=True)
+    normals = vertex_normals(skin.rest, welded)[source]
+    uv = np.column_stack([(x[source] + 0.36) / 0.72, (y[source] - BROW_Y + 0.05) / 0.1])
+    return source, 0.005 * normals, local.reshape(-1, 3), uv
+
+
+def card_texture(d: GlbDoc, size: int = 64) -> dict:
+    """A brow texture as avatar makers paint them: hair strokes on a clear ground (a fifth of
+    the texels opaque, in thin diagonal strokes)."""
+    u, v = np.meshgrid(np.arange(size), np.arange(size))
+    rgba = np.zeros((size, size, 4), np.uint8)
+    rgba[..., :3] = (60, 40, 30)
+    rgba[..., 3] = np.where((u + 2 * v) % 10 < 2, 255, 0)
+    out = io.BytesIO()
+    Image.fromarray(rgba, "RGBA").save(out, "PNG")
+    images = d.doc.setdefault("images", [])
+    images.append({"bufferView": d.view(out.getvalue()), "mimeType": "image/png"})
+    textures = d.doc.setdefault("textures", [])
+    textures.append({"source": len(images) - 1})
+    return {"index": len(textures) - 1}
+
+
+def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner", brows: str = ""
+                 ) -> Path:
     """The avatar .glb (see the module's docstring); returns its path. ``squint``: see
-    ``production_head.build_head``."""
+    ``production_head.build_head``. ``brows``: eyebrow cards as a second primitive of the
+    Head mesh (``brow_card``), their material alpha-cut ("MASK"), blended ("BLEND"), or
+    opaque by its mode but with a mostly clear texture ("texture")."""
     head = build_head("m", vertices=vertices, up="y", squint=squint)
     skin, eye_l, eye_r, teeth = head.parts
     d = GlbDoc()
@@ -171,6 +212,34 @@ def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner") -> Pa
     meshes = {"EyeLeft": skinned_mesh("EyeLeft", eye_l, eye_mat),
               "EyeRight": skinned_mesh("EyeRight", eye_r, eye_mat),
               "Head": skinned_mesh("Head", skin, skin_mat, quantize_uv=True)}
+    if brows:
+        source, lift, card_tris, card_uv = brow_card(skin, head.face_xy)
+        material = {"name": "FaceBrow", "pbrMetallicRoughness": {
+            "baseColorTexture": card_texture(d), "metallicFactor": 0.0}}
+        if brows != "texture":
+            material["alphaMode"] = brows
+        d.doc["materials"].append(material)
+        card_rest = to_world(skin.rest[source] + lift)
+        card_targets = []
+        for name in TARGETS:
+            pose = poses.get(name)
+            moved = skin.poses.get(pose) if pose else None
+            if moved is None or np.array_equal(moved, skin.rest):
+                card_targets.append({"POSITION": d.zeros(len(source))})
+            else:
+                delta = to_world(moved[source] + lift) - card_rest
+                card_targets.append({"POSITION": d.data(delta.astype(np.float32))})
+        n = len(source)
+        meshes["Head"]["primitives"].append({
+            "attributes": {
+                "POSITION": d.data(card_rest.astype(np.float32)),
+                "TEXCOORD_0": d.data(np.column_stack([card_uv[:, 0], 1.0 - card_uv[:, 1]])
+                                     .astype(np.float32)),
+                "JOINTS_0": d.data(np.zeros((n, 4), np.uint8), "VEC4"),
+                "WEIGHTS_0": d.data(np.tile(np.float32([1, 0, 0, 0]), (n, 1)))},
+            "material": len(d.doc["materials"]) - 1,
+            "indices": d.data(card_tris.astype(np.uint16).ravel()),
+            "targets": card_targets})
     # the teeth: int16 positions, dequantized by their node's scale and translation
     world = to_world(teeth.rest)
     low, high = world.min(axis=0), world.max(axis=0)

@@ -159,8 +159,10 @@ def test_a_deforming_pose_gives_up_front_and_box(convention: str):
     np.testing.assert_array_equal(frame.front, front)
     np.testing.assert_array_equal(frame.left, [1, 0, 0])
     up_name, front_name = ("+Z", "-Y") if convention == "z-up" else ("+Y", "+Z")
-    assert frame.how == (f"up {up_name} (from the motion of jawOpen); front {front_name} "
-                         "(the way the face's surface faces)")
+    # one pose moving straight down: its agreement 1, times n / (n + 1) for a lone pose
+    assert frame.how == (f"up {up_name} (from the motion of jawOpen); how sure of up: "
+                         "fairly sure, 0.50 (1 of 1 moving that way); "
+                         f"front {front_name} (the way the face's surface faces)")
     # Deformed: rows z = 0 and 1, x 0, 1, 2 twice each (percentiles 1 and 99 are the ends).
     np.testing.assert_allclose(frame.centre, turn @ [1.0, 0.0, 0.5])
     np.testing.assert_allclose(frame.half, [MARGIN, 0.5 * MARGIN, 1e-3 * np.hypot(2, 2)])

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from studio.core.mesh.camera import OrbitCamera
+from studio.core.setup.face_features import unique_edges
 from studio.core.setup.face_frame import (
     FaceFrame,
     _deformation,
-    _edges,
     _pose_direction,
     _snap,
     aim,
@@ -161,7 +161,9 @@ def test_arkit_names_say_their_direction_with_or_without_words(name: str, direct
 
 def test_edges_are_each_undirected_edge_once():
     tris = np.array([[0, 1, 2], [2, 1, 3]])
-    np.testing.assert_array_equal(_edges(tris), [[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]])
+    edges, uses = unique_edges(tris)
+    np.testing.assert_array_equal(edges, [[0, 1], [0, 2], [1, 2], [1, 3], [2, 3]])
+    np.testing.assert_array_equal(uses, [1, 1, 2, 1, 1])  # the shared edge twice
 
 
 def test_deformation_is_the_largest_relative_edge_change():
@@ -169,7 +171,7 @@ def test_deformation_is_the_largest_relative_edge_change():
     that edge change by 0.5; a second pose stretching every edge by 10 % adds 0.1 at corner
     0."""
     rest = TRIANGLE.copy()
-    edges = _edges(np.array([[0, 1, 2]]))
+    edges, _ = unique_edges(np.array([[0, 1, 2]]))
     stretched = rest.copy()
     stretched[2] = (0, 0, 6)  # 4 → 6 (+50 %), the hypotenuse 5 → √45 (+34 %)
     out = _deformation(rest, [stretched, rest * 1.1], edges)
@@ -229,7 +231,8 @@ def test_a_pose_that_only_moves_the_head_deforms_nothing():
     given without names are fine)."""
     frame = detect_face_frame(GRID, GRID_TRIS, [GRID + np.array([0.5, 0.2, 0.1])])
     assert frame.how == (
-        "up +Z (the longer of the Y and Z extents; give --up to choose); no "
+        "up +Z (the longer of the Y and Z extents; give --up to choose); how sure of up: "
+        "unsure, 0.10; no "
         "key pose deforms the skin: the face is taken to be the upper skin; "
         "front -Y (the usual convention with that up axis)"
     )

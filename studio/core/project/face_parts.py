@@ -10,7 +10,10 @@ not skin, and a wrinkle on them is a bug. Three signs, any one enough:
 - **a small closed shell**: every edge shared by two triangles (an eyeball) and smaller than a
   fifth of the whole;
 - **moved rigidly by the poses**: some pose moves it and every pose only turns or shifts it
-  (an eye looking around, a jaw's teeth), where skin stretches.
+  (an eye looking around, a jaw's teeth), where skin stretches;
+- **see-through**: its material is alpha-cut or blended, or its base-colour texture is mostly
+  transparent where it lies (brow, lash and hair cards: a furrow on a card is drawn on air).
+  The file says so (``gltf_materials.see_through``); a part carries the reason.
 
 Usable for an OBJ's parts and a glTF's meshes and materials alike: a part is its names, its
 welded positions and triangles, and its positions in each key pose.
@@ -81,6 +84,7 @@ class Part:
     rest: Array  # (n, 3)
     triangles: Array  # (m, 3) into rest
     poses: Sequence[Array] = field(default_factory=list)
+    see_through: str = ""  # why its material is not skin ("alpha-cut material", …), or ""
 
 
 def is_closed(triangles: Array) -> bool:
@@ -120,8 +124,8 @@ def moves_rigidly(rest: Array, poses: Sequence[Array]) -> bool:
 
 
 def suggest_parts(parts: Sequence[Part]) -> dict[int, str]:
-    """The parts that look not face, each with why: "name", "small closed shell" or "moved
-    rigidly". Size is measured against all the parts together."""
+    """The parts that look not face, each with why: what makes it see-through, "name", "small
+    closed shell" or "moved rigidly". Size is measured against all the parts together."""
     if not parts:
         return {}
     points = np.concatenate([np.asarray(p.rest, np.float64) for p in parts])
@@ -130,7 +134,9 @@ def suggest_parts(parts: Sequence[Part]) -> dict[int, str]:
     for i, part in enumerate(parts):
         rest = np.asarray(part.rest, np.float64)
         size = float(np.linalg.norm(rest.max(axis=0) - rest.min(axis=0)))
-        if any(is_not_face_name(n) for n in part.names):
+        if part.see_through:
+            out[i] = part.see_through
+        elif any(is_not_face_name(n) for n in part.names):
             out[i] = "name"
         elif size < SHELL_SHARE * whole and is_closed(np.asarray(part.triangles)):
             out[i] = "small closed shell"

@@ -59,6 +59,7 @@ from studio.core.project.gltf_materials import (
     atlas_textures,
     image_data,
     image_index,
+    see_through,
     texture_source,
     wrinkle_image,
 )
@@ -162,6 +163,8 @@ def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str
     """Another tool's file: the face found among its meshes, merged, its maps in an atlas (or,
     for a face without UVs, UVs made by xatlas and plain maps: see ``_made_uvs``)."""
     choice = choose_face(scene_meshes(g), keep, not_face, kind, str(g.path))
+    if choice.suggest:
+        choice.see_through = see_through(g, choice)
     merged = merge_face(choice, str(g.path))
     made = _made_uvs(g, choice, merged)
     if made is None:

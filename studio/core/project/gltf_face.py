@@ -42,6 +42,8 @@ class FaceChoice:
     not_face: dict[tuple[int, int], str]  # kept primitive -> why ("named", "name", …)
     automatic: bool  # the face was found, not named by ``keep``
     suggest: bool  # not face is to be suggested, not named by ``not_face``
+    # kept primitive -> why its material is see-through (``gltf_materials.see_through``)
+    see_through: dict[tuple[int, int], str] = field(default_factory=dict)
 
     def kept_meshes(self) -> list[int]:
         return list(dict.fromkeys(m for m, _ in self.kept))
@@ -220,7 +222,8 @@ def _suggest(choice: FaceChoice, merged: MergedFace) -> dict[tuple[int, int], st
         vertices, local = np.unique(own, return_inverse=True)
         parts.append(Part([*node.names, node.primitives[j].material_name],
                           merged.mesh.rest[vertices], local.reshape(-1, 3),
-                          [p.positions[vertices] for p in merged.poses]))
+                          [p.positions[vertices] for p in merged.poses],
+                          choice.see_through.get((i, j), "")))
         keys.append((i, j))
     flagged = {keys[n]: why for n, why in suggest_parts(parts).items()}
     if flagged and len(flagged) == len(keys):

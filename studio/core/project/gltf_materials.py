@@ -25,11 +25,14 @@ from studio.core.mesh.uv_tiles import (
 )
 from studio.core.project.gltf_container import _Gltf, _item, _list, _whole
 from studio.core.project.gltf_face import FaceChoice, MergedFace
+from studio.core.project.gltf_scene import Primitive
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
 FLAT_NORMAL = (128, 128, 255)
 EDGE = 1e-3  # UVs this far outside 0–1 still count as inside (rounding at the square's edge)
+CLEAR_ALPHA = 128  # a texel under half opaque is see-through (glTF's default alphaCutoff)
+MOSTLY_CLEAR = 0.5  # a primitive whose texture is see-through over this share of it is a card
 
 
 def _rgb(image: Array | None, fallback: Array | None = None) -> Array | None:
@@ -169,3 +172,61 @@ def _own_maps(g: _Gltf, material: dict) -> FaceTextures:
         diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), plain_diffuse()),
         normal_neutral=_rgb(g.texture_image(material.get("normalTexture")), flat_normal_map()),
         normal_wrinkled=_rgb(wrinkle_image(g, material), flat_normal_map()))
+
+
+def see_through(g: _Gltf, choice: FaceChoice) -> dict[tuple[int, int], str]:
+    """The kept primitives whose material says they are not skin, and why: alpha-cut
+    (``alphaMode`` MASK) or blended (BLEND) — the brow, lash and hair cards of an avatar —
+    or a base-colour texture under half opaque over most of the primitive (a card exported
+    as opaque). The face's largest primitive is never asked (the skin's texture, the largest,
+    is not decoded for it), nor is a primitive without UVs."""
+    kept = list(choice.kept)
+    if len(kept) < 2:
+        return {}
+    largest = max(kept, key=lambda k: len(choice.meshes[k[0]].primitives[k[1]].triangles))
+    out: dict[tuple[int, int], str] = {}
+    alphas: dict[object, Array | None] = {}
+    for key in kept:
+        if key == largest:
+            continue
+        prim = choice.meshes[key[0]].primitives[key[1]]
+        material = _material(g, prim.material)
+        mode = material.get("alphaMode", "OPAQUE")
+        if mode == "MASK":
+            out[key] = "alpha-cut material"
+        elif mode == "BLEND":
+            out[key] = "blended material"
+        elif prim.has_uvs:
+            info = material.get("pbrMetallicRoughness", {}).get("baseColorTexture")
+            if not (isinstance(info, dict) and "index" in info):
+                continue
+            if info["index"] not in alphas:
+                alphas[info["index"]] = _alpha(g.texture_image(info))
+            alpha = alphas[info["index"]]
+            if alpha is not None and _clear_share(alpha, prim) > MOSTLY_CLEAR:
+                out[key] = "mostly transparent texture"
+    return out
+
+
+def _alpha(image: Array | None) -> Array | None:
+    """An image's alpha channel as 0–255 (None without one: opaque)."""
+    if image is None or image.ndim != 3 or image.shape[2] not in (2, 4):
+        return None
+    alpha = image[:, :, -1]
+    return (alpha // 257).astype(np.uint8) if alpha.dtype == np.uint16 else alpha
+
+
+def _clear_share(alpha: Array, prim: Primitive) -> float:
+    """The share of a primitive's area (its triangles' corners and centres, area-weighted)
+    where its texture is see-through: its UVs repeat, v up."""
+    p = prim.positions[prim.triangles]
+    area = np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    if area.sum() <= 0:
+        return 0.0
+    uv = prim.uvs[prim.triangles]  # (m, 3, 2)
+    points = np.concatenate([uv, uv.mean(axis=1, keepdims=True)], axis=1)  # corners, centre
+    h, w = alpha.shape
+    col = np.floor(np.mod(points[..., 0], 1.0) * w).astype(np.int64).clip(0, w - 1)
+    row = np.floor(np.mod(1.0 - points[..., 1], 1.0) * h).astype(np.int64).clip(0, h - 1)
+    clear = (alpha[row, col] < CLEAR_ALPHA).mean(axis=1)
+    return float(np.sum(clear * area) / area.sum())

@@ -52,6 +52,7 @@ LEAST_CONE = 0.5  # … but no narrower than this (degrees)
 PAIR_SHOWN = 0.3  # … or two other poses at once would show them this much (a frown's brow
 # lowerer and mouth frown, a squint's crow's feet at the temple: 1.0); 0.05 took a smile's
 # crow's feet from its cheek raise wherever two unrelated poses together moved that skin alike
+UNDER_A_TEXEL = "its compression covers no texel of the masks"
 PLACED_CONE = 45.0  # degrees: the cone on the vertices of lines anatomy placed (see below)
 
 
@@ -63,7 +64,8 @@ class AutoSetupReport:
     wdv_areas: list[WdvArea] = field(default_factory=list)
     links: dict[str, dict[str, float]] = field(default_factory=dict)  # pose -> {area: gain}
     still_poses: list[str] = field(default_factory=list)  # move no skin: no WDV area
-    flat_poses: list[str] = field(default_factory=list)  # compress no skin: no mask
+    flat_poses: list[str] = field(default_factory=list)  # no mask (see ``no_mask``)
+    no_mask: dict[str, str] = field(default_factory=dict)  # pose -> why it got none, in words
     strains: dict[str, PoseStrain] = field(default_factory=dict)  # what each pose does
     regions: dict[str, str] = field(default_factory=dict)  # where it compresses, by name
 
@@ -80,7 +82,13 @@ class AutoSetupReport:
         if self.still_poses:
             parts.append(f"no vectors for {', '.join(self.still_poses)} (moves no skin)")
         if self.flat_poses:
-            parts.append(f"no mask for {', '.join(self.flat_poses)} (compresses no skin)")
+            reasons: dict[str, list[str]] = {}
+            for pose in self.flat_poses:
+                reason = (UNDER_A_TEXEL if self.no_mask.get(pose) == UNDER_A_TEXEL
+                          else "compresses no skin")
+                reasons.setdefault(reason, []).append(pose)
+            parts += [f"no mask for {', '.join(poses)} ({reason})"
+                      for reason, poses in reasons.items()]
         text = "; ".join(parts)
         return text[0].upper() + text[1:] + "."
 
@@ -89,12 +97,14 @@ class AutoSetupReport:
         got no mask — what a user checks first on a face made elsewhere."""
         lines = []
         for pose, strain in self.strains.items():
-            if strain.compresses:
+            if pose in self.flat_poses or not strain.compresses:
+                # the reason the mask was not made, the one the summary gives
+                why = self.no_mask.get(pose) or strain.describe()
+                lines.append(f"{pose}: no mask, {why if why == UNDER_A_TEXEL else 'it ' + why}")
+            else:
                 where = f" ({self.regions[pose]})" if pose in self.regions else ""
                 lines.append(f"{pose}: compresses {100 * strain.compressed_share:.1f} % of the "
                              f"skin{where}, peak {100 * strain.peak_compression:.0f} %")
-            else:
-                lines.append(f"{pose}: no mask, it {strain.describe()}")
         return lines
 
 
@@ -215,11 +225,10 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         area = None
         if motion > STILL_MOTION:
             selected = suggest(rest, moved, fraction)
-            if name in placed:  # anatomy's lines, and what the pose moves around them only:
-                # its vectors elsewhere would reveal other poses' furrows on its map (a
-                # sneer's, pulling the brow down, a frown's lines between the brows)
-                lines, window = (np.asarray(v, bool) for v in placed[name])
-                selected = (selected & window) | lines
+            # anatomy's lines, and what the pose moves around them only: its vectors
+            # elsewhere would reveal other poses' furrows on its map (a sneer's, pulling the
+            # brow down, a frown's lines between the brows)
+            selected = placed_or_own(selected, placed.get(name), True)
             area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
                                            selected, colour=colour)
             motions[name] = (moved - rest).astype(np.float32)
@@ -238,14 +247,15 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         report.strains[name] = summary
         if locate is not None and summary.centre is not None:
             report.regions[name] = locate(summary.centre)
-        weights = compression_weights(strain, pose_strain.compression, threshold)
-        if name in placed:  # its mask holds anatomy's lines whole, and it wrinkles only there
-            lines, window = (np.asarray(v, bool) for v in placed[name])
-            weights = np.where(lines, 1.0, np.where(window, weights, 0.0)).astype(np.float32)
+        # its mask holds anatomy's lines whole, and it wrinkles only there
+        own = compression_weights(strain, pose_strain.compression, threshold)
+        weights = placed_or_own(own, placed.get(name), 1.0)
         squeezed[name] = weights
         mask = mask_from_weights(project.mesh, weights, shape, softness, raster)
         if not mask.any():
             report.flat_poses.append(name)
+            report.no_mask[name] = (UNDER_A_TEXEL if summary.compresses
+                                    else summary.describe())
             continue
         mask_area = InfluenceArea(unique_name(name, mask_taken), mask, colour=colour)
         mask_taken.append(mask_area.name)
@@ -254,6 +264,22 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     narrow_cones(report.wdv_areas, motions, squeezed,
                  {name: np.asarray(v[0], bool) for name, v in placed.items()})
     return report
+
+
+def placed_or_own(own: Array, place: tuple[Array, Array] | None, on_lines: float | bool
+                  ) -> Array:
+    """A pose's own per-vertex values (what it moves or compresses) narrowed to where anatomy
+    places its lines: ``on_lines`` on the lines, its own values inside their window, nothing
+    outside. Its own values unchanged where anatomy places nothing (``place`` None) or where
+    the window holds none of them: anatomy's places come from the face's frame, which the
+    other poses loaded help find, and whether a pose gets a mask and vectors must depend on
+    that pose alone (a brow lowerer squeezing the skin got no mask beside two poses and one
+    beside fifty)."""
+    if place is None:
+        return own
+    lines, window = (np.asarray(v, bool) for v in place)
+    refined = np.where(lines, on_lines, np.where(window, own, 0)).astype(own.dtype)
+    return refined if refined.any() else own
 
 
 def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],

@@ -37,11 +37,14 @@ import numpy as np
 
 Array = np.ndarray
 
-SYMMETRY_SAMPLE = 600  # points of the skin compared with their mirror image
+SYMMETRY_SAMPLE = 600  # points of the skin compared with their mirror image …
+SYMMETRY_OTHERS = 20000  # … and the most points they are compared with (a dense head thinned)
+NEAR_OTHERS = 8000  # the most points of an open edge that nearness to it is measured against
 MIRROR_CLEAR = 0.6  # the left–right axis is this much more symmetric than the next axis …
 SURFACE_SAMPLE = 10000  # surface points (area-weighted) the neighbourhood means are taken over
 CANDIDATES = 3000  # skin vertices measured for pits, at most
 MIDLINE = 800  # midline vertices measured for the nose tip, at most (evenly spread)
+SPARE = 4  # of a dense head, this many times those spread evenly are looked at first
 NOSE_TRIES = 5  # the most protruding midline points tried as the nose tip
 LEADS = 0.1  # no skin near the nose tip is ahead of it by over this share of the eyes' distance
 RADIUS = 0.05  # the neighbourhood a point stands out from: a share of the face's size
@@ -83,7 +86,7 @@ def asymmetry(points: Array, axis: Array) -> float:
         sample = points[np.linspace(0, len(points) - 1, SYMMETRY_SAMPLE).astype(int)]
     along = sample @ axis
     mirrored = sample - 2.0 * np.outer(along - np.median(points @ axis), axis)
-    return float(np.sqrt(_nearest2(mirrored, points)).mean())
+    return float(np.sqrt(_nearest2(mirrored, thinned(points, SYMMETRY_OTHERS))).mean())
 
 
 def _nearest2(points: Array, others: Array) -> Array:
@@ -130,11 +133,36 @@ def _components(count: int, edges: Array) -> Array:
             parent = jumped
 
 
-def _edges(triangles: Array) -> tuple[Array, Array]:
-    """The unique edges of the triangles (E, 2), and how many triangles use each."""
-    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+def unique_edges(triangles: Array) -> tuple[Array, Array]:
+    """The unique edges of the triangles (E, 2), smaller index first, and how many triangles
+    use each. Each edge is one integer key while they are sorted (a row-wise unique sorts
+    rows as records: seconds on a 250,000-vertex head, against a tenth of one)."""
+    t = np.asarray(triangles, np.int64)
+    e = np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]])
     e.sort(axis=1)
-    return np.unique(e, axis=0, return_counts=True)
+    stride = int(e.max(initial=0)) + 1
+    keys, counts = np.unique(e[:, 0] * stride + e[:, 1], return_counts=True)
+    return np.stack([keys // stride, keys % stride], axis=1), counts
+
+
+def thinned(points: Array, most: int) -> Array:
+    """At most ``most`` of the points, spread evenly over where they lie: the first in each
+    cell of a grid coarsened until few enough cells are occupied (all of them when they
+    are few already). Nearest-point questions about a dense head's surface then cost what
+    they cost on a coarse one, and the answer does not move by more than a cell."""
+    if len(points) <= most:
+        return points
+    lo = points.min(axis=0)
+    diagonal = float(np.linalg.norm(np.ptp(points, axis=0))) or 1.0
+    cell = diagonal / np.sqrt(most)  # a surface fills about (diagonal / cell)² cells
+    while True:
+        grid = np.floor((points - lo) / cell).astype(np.int64)
+        span = grid.max(axis=0) + 1
+        keys = (grid[:, 0] * span[1] + grid[:, 1]) * span[2] + grid[:, 2]
+        _, first = np.unique(keys, return_index=True)
+        if len(first) <= most:
+            return points[np.sort(first)]
+        cell *= 1.5
 
 
 def _blobs(points: Array, members: Array, labels: Array) -> tuple[Array, Array]:
@@ -208,11 +236,18 @@ def _protrusion(points: Array, normals: Array, surface: Array, weights: Array,
     return height / radius, direction / np.maximum(length, 1e-300)
 
 
+def _spread(indices: Array, most: int) -> Array:
+    """At most ``most`` of the indices, evenly spread (all of them when they are fewer)."""
+    if len(indices) <= most:
+        return indices
+    return indices[np.linspace(0, len(indices) - 1, most).astype(int)]
+
+
 def _near(points: Array, others: Array, distance: float) -> Array:
     """(N,) bool: points within ``distance`` of any of the others."""
     if not len(others):
         return np.zeros(len(points), bool)
-    return _nearest2(points, others) < distance ** 2
+    return _nearest2(points, thinned(others, NEAR_OTHERS)) < distance ** 2
 
 
 def _eye_pairs(centres: Array, radii: Array, axis: int, plane: float, band: float,
@@ -333,7 +368,7 @@ def find_face_features(rest: Array, triangles: Array, skin: Array | None = None,
         return None
     axis, plane = symmetry
 
-    edges, uses = _edges(skin_tris)
+    edges, uses = unique_edges(skin_tris)
     spacing = float(np.median(np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)))
     band = max(BAND * size, BAND_EDGES * spacing)
     radius = max(RADIUS * size, 2.0 * spacing)
@@ -346,12 +381,12 @@ def find_face_features(rest: Array, triangles: Array, skin: Array | None = None,
     rim_points = rest[np.unique(rim)]
 
     # nose tips to try: the midline's most protruding points, clear of open edges
-    midline = np.flatnonzero(within & (np.abs(rest[:, axis] - plane) < band))
+    midline = _spread(np.flatnonzero(within & (np.abs(rest[:, axis] - plane) < band)),
+                      SPARE * MIDLINE)
     midline = midline[~_near(rest[midline], rim_points, radius)]
     if len(midline) < 3:
         return None
-    if len(midline) > MIDLINE:
-        midline = midline[np.linspace(0, len(midline) - 1, MIDLINE).astype(int)]
+    midline = _spread(midline, MIDLINE)
     height, outward = _protrusion(rest[midline], normals[midline], surface, weights, radius)
     noses = _peaks(rest[midline], height, 2.0 * radius, NOSE_TRIES)
 
@@ -359,7 +394,7 @@ def find_face_features(rest: Array, triangles: Array, skin: Array | None = None,
     blobs = []
     others = triangles[~skin[triangles].all(axis=1)]
     if len(others):
-        part_edges, _ = _edges(others)
+        part_edges, _ = unique_edges(others)
         members = np.unique(others)
         members = members[~skin[members]
                           & (np.linalg.norm(rest[members] - middle, axis=1) < REACH * size)]
@@ -391,10 +426,9 @@ def find_face_features(rest: Array, triangles: Array, skin: Array | None = None,
             return result
     if not sockets:
         return None
-    candidates = np.flatnonzero(within)
+    candidates = _spread(np.flatnonzero(within), SPARE * CANDIDATES)
     candidates = candidates[~_near(rest[candidates], rim_points, radius)]
-    if len(candidates) > CANDIDATES:
-        candidates = candidates[np.linspace(0, len(candidates) - 1, CANDIDATES).astype(int)]
+    candidates = _spread(candidates, CANDIDATES)
     if not len(candidates) or not len(noses):
         return None
     depth, _ = _protrusion(rest[candidates], normals[candidates], surface, weights, radius)

@@ -35,7 +35,12 @@ from studio.core.animation.pose_names import canonical
 from studio.core.files.errors import StudioError
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.face_regions import region_name
-from studio.core.setup.face_features import FaceFeatures, asymmetry, find_face_features
+from studio.core.setup.face_features import (
+    FaceFeatures,
+    asymmetry,
+    find_face_features,
+    unique_edges,
+)
 
 Array = np.ndarray
 
@@ -46,6 +51,12 @@ DEFORMED_SHARE = 0.1  # a vertex deformed by a tenth of the strong deformation i
 MARGIN = 1.12  # the face box, a little larger than the deformed skin
 BODY_HEIGHTS = 4.0  # skin this many face boxes tall is a body, not a head and neck …
 HEAD_REACH = (1.8, (-1.5, 1.8), 2.6)  # … whose skin past these (face |x|, y, |z|) is not face
+UPPER_SKIN = "no key pose deforms the skin: the face is taken to be the upper skin"
+# the sample's face box from the eyes' middle (centre offset) and its half-extents, in the
+# distance between the eyes, along (left, up, front): measured on the production test head at
+# 900, 2172 and 5000 vertices (the centre 0.15-0.17 below the eyes and 0.85 behind, the
+# halves 1.28-1.31, 1.39-1.42, 1.47)
+EYES_BOX = ((0.0, -0.17, -0.85), (1.3, 1.4, 1.47))
 MANY_POSES = 10  # in a rig of this many poses or more, the face ends below where two of them …
 SHARED_LEAST = 0.25  # … deform the skin, unless that is under a quarter of what any of them does
 
@@ -223,12 +234,6 @@ def _face_region(per_pose: Array, skin: Array) -> tuple[Array, Array | None]:
     return face, shared
 
 
-def _edges(triangles: Array) -> Array:
-    e = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
-    e.sort(axis=1)
-    return np.unique(e, axis=0)
-
-
 def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = (),
                       pose_names: Sequence[str] = (), skin: Array | None = None,
                       up: str | None = None, front: str | None = None) -> FaceFrame:
@@ -247,7 +252,8 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     face = np.zeros(len(rest), bool)
     chin_region = None
     if poses:
-        face, chin_region = _face_region(_deformations(rest, poses, _edges(triangles)), skin)
+        edges = unique_edges(triangles)[0]
+        face, chin_region = _face_region(_deformations(rest, poses, edges), skin)
 
     # the eyes and the nose tip: anatomy, which no name, extent or winding can mislead
     features = None
@@ -259,22 +265,9 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
         up_vec = parse_axis(up)
         notes.append(f"up {axis_name(up_vec)} (as given)")
     else:
-        up_vec, reason = _up_from_poses(rest, poses, pose_names, skin, size)
-        if up_vec is None:
-            ext = np.ptp(skin_points, axis=0)
-            up_vec = np.array(AXES["+z"] if ext[2] > ext[1] * 1.001 else AXES["+y"], float)
-            reason = "the longer of the Y and Z extents; give --up to choose"
-        if face.sum() >= 3:
-            across = _up_across_facing(rest, triangles, face, skin, up_vec)
-            if across is not None:
-                up_vec, reason = across
-        if features is not None:
-            if np.allclose(features.up, up_vec):
-                reason += "; the eyes above the nose agree"
-            else:
-                up_vec = features.up
-                reason = f"the eyes above the nose ({features.eyes_from}); give --up to choose"
-        notes.append(f"up {axis_name(up_vec)} ({reason})")
+        up_vec, reason, sure = _weigh_up(rest, triangles, poses, pose_names, skin, size, face,
+                                         features)
+        notes += [f"up {axis_name(up_vec)} ({reason})", sure]
 
     # front
     given_front = None if front is None else parse_axis(front)
@@ -283,7 +276,7 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
             raise StudioError(f"the front {axis_name(given_front)} is not at right angles to "
                               f"the up {axis_name(up_vec)}")
         up_vec = np.array(AXES["+z"] if abs(given_front[1]) > 0.5 else AXES["+y"], float)
-        notes[-1] = f"up {axis_name(up_vec)} (at right angles to the front given)"
+        notes[-2:] = [f"up {axis_name(up_vec)} (at right angles to the front given)"]
     if given_front is not None:
         front_vec, reason = given_front, "as given"
         region = face if face.sum() >= 3 else _front_guess(rest, skin, up_vec)
@@ -293,8 +286,10 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
     else:  # nothing shows where the face is: the convention that goes with the up axis
         region = _front_guess(rest, skin, up_vec)
         front_vec, reason = _conventional_front(up_vec)
-        notes.append("no key pose deforms the skin: the face is taken to be the upper skin")
-    if (given_front is None and features is not None
+        notes.append(UPPER_SKIN)
+    # the nose ahead of the eyes only counts where the eyes above the nose gave this up:
+    # eyes found upside down put the nose behind them too
+    if (given_front is None and features is not None and np.allclose(features.up, up_vec)
             and abs(float(np.dot(features.front, up_vec))) < 1e-9):
         if np.allclose(features.front, front_vec):
             reason += "; the nose ahead of the eyes agrees"
@@ -311,6 +306,12 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
         lo[1] = np.percentile(rest[chin_region] @ up_vec, 1)
     centre_local = (lo + hi) / 2.0
     half = np.maximum((hi - lo) / 2.0 * MARGIN, 1e-3 * size)
+    if (face.sum() < 3 and features is not None and np.allclose(features.up, up_vec)
+            and np.allclose(features.front, front_vec)):
+        # no pose shows the face, but its eyes and nose do: boxed as the sample's face is
+        centre_local, half = _box_from_eyes(features, basis)
+        notes[notes.index(UPPER_SKIN)] = ("no key pose deforms the skin: the face is boxed "
+                                         "around its eyes and nose")
     centre = basis @ centre_local
     def floats(v: Array) -> tuple[float, float, float]:
         return tuple(float(x) for x in v)  # type: ignore[return-value]
@@ -324,15 +325,82 @@ def detect_face_frame(rest: Array, triangles: Array, poses: Sequence[Array] = ()
                      bool(face.sum() >= 3))
 
 
+@dataclass(frozen=True)
+class _UpEvidence:
+    """One way of telling up: the axis it gives, in words, and how sure it is (0 … 1)."""
+
+    up: Array
+    words: str
+    sure: float
+    detail: str = ""  # what the sureness rests on, for the report
+
+
+# how sure each kind of evidence is at best: eye parts and eye openings are hard to mistake;
+# pits in a closed skin may be a mouth's corners or a nostril's hollows; extents are a guess
+ANATOMY_SURE = {"eye parts": 0.9, "eye holes in the skin": 0.75, "eye sockets": 0.4}
+EXTENTS_SURE = 0.1
+FACING_SURE = 0.6  # the way a flat face looks and its symmetry (up's sign is a guess)
+
+
+def _sure_words(sure: float) -> str:
+    """How sure, in words and as a number: "sure, 0.86"."""
+    word = "sure" if sure >= 0.75 else "fairly sure" if sure >= 0.5 else "unsure"
+    return f"{word}, {sure:.2f}"
+
+
+def _weigh_up(rest: Array, triangles: Array, poses: Sequence[Array], names: Sequence[str],
+              skin: Array, size: float, face: Array, features: FaceFeatures | None
+              ) -> tuple[Array, str, str]:
+    """Up, the words saying what decided it, and a note saying how sure and what else said
+    so. The poses' motion (or, without it, the longer extent) is corrected across the way the
+    face looks; the eyes above the nose confirm it, or overrule it only when they are the
+    surer evidence: pits taken for eye sockets on a mask without eyes may be its mouth
+    corners, and never turn over a face whose brows rise and whose jaw opens the other way."""
+    found = _up_from_poses(rest, poses, names, skin, size)
+    if found is None:
+        ext = np.ptp(rest[skin] if skin.any() else rest, axis=0)
+        longer = AXES["+z"] if ext[2] > ext[1] * 1.001 else AXES["+y"]
+        found = _UpEvidence(np.array(longer, float), "the longer of the Y and Z extents; give "
+                            "--up to choose", EXTENTS_SURE)
+    if face.sum() >= 3:
+        across = _up_across_facing(rest, triangles, face, skin, found.up)
+        # the face cannot look along its own up: corrected where the way it looks is surer
+        # than what said up (a jaw opening's chin looks down as much as ahead: not surer)
+        if across is not None and FACING_SURE * across[2] > found.sure:
+            found = _UpEvidence(across[0], across[1], FACING_SURE * across[2])
+    details = [found.detail] if found.detail else []
+    winner = found
+    if features is not None:
+        eyes = _UpEvidence(features.up, f"the eyes above the nose ({features.eyes_from})",
+                           ANATOMY_SURE.get(features.eyes_from, ANATOMY_SURE["eye sockets"]))
+        if np.allclose(eyes.up, found.up):
+            # two independent signs agreeing: surer than either
+            winner = _UpEvidence(found.up, found.words,
+                                 1.0 - (1.0 - found.sure) * (1.0 - eyes.sure))
+            details.append(f"{eyes.words} agree")
+        else:
+            winner, loser = (eyes, found) if eyes.sure > found.sure else (found, eyes)
+            if winner is eyes:
+                winner = _UpEvidence(eyes.up, eyes.words + "; give --up to choose", eyes.sure)
+            verb = "say" if loser is eyes else "says"
+            details.append(f"{loser.words.split(';')[0]} {verb} {axis_name(loser.up)}, less "
+                           f"sure ({loser.sure:.2f}): overruled")
+    shown = f" ({'; '.join(details)})" if details else ""
+    return winner.up, winner.words, f"how sure of up: {_sure_words(winner.sure)}{shown}"
+
+
 def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], skin: Array,
-                   size: float) -> tuple[Array | None, str]:
+                   size: float) -> _UpEvidence | None:
     """Up from the poses whose names say which way they move the skin: each votes for the
-    axes by its mean motion's component along them (signed by up or down), and the axis with
+    axes by its mean motion's direction along them (signed by up or down), and the axis with
     the most votes wins — a one-sided frown that mostly pulls sideways still says "down" a
-    little, and a brow raise says "up" a lot."""
+    little, and a brow raise says "up" a lot. How sure: the poses' mean agreement with the
+    axis (1 when every one moves straight along it), less for few poses (one pose may be
+    misnamed: n / (n + 1))."""
     votes = np.zeros(len(AXES))
     axes = np.array(list(AXES.values()), np.float64)
     used = []
+    directions = []
     # ARKit names are unambiguous: when a rig has them, only they vote
     words = not any(_pose_direction(name, False) for name in names)
     for name, positions in zip(names, poses, strict=False):
@@ -345,13 +413,18 @@ def _up_from_poses(rest: Array, poses: Sequence[Array], names: Sequence[str], sk
             continue
         mean = motion[length > 0.2 * length.max()].mean(axis=0)
         if np.linalg.norm(mean) > 0:
-            votes += sign * axes @ (mean / np.linalg.norm(mean))
+            directions.append(sign * mean / np.linalg.norm(mean))
             used.append(name)
+    if directions:
+        votes = axes @ np.sum(directions, axis=0)
     if not used or votes.max() < 0.5:
-        return None, ""
+        return None
     best = int(np.argmax(votes))
+    agreeing = sum(float(d @ axes[best]) > 0.5 for d in directions)
+    sure = float(np.clip(votes[best] / len(used), 0.0, 1.0)) * len(used) / (len(used) + 1)
     shown = ", ".join(used[:3]) + (" …" if len(used) > 3 else "")
-    return axes[best], f"from the motion of {shown}"
+    return _UpEvidence(axes[best], f"from the motion of {shown}", sure,
+                       f"{agreeing} of {len(used)} moving that way")
 
 
 def _features(rest: Array, triangles: Array, skin: Array, face: Array) -> FaceFeatures | None:
@@ -368,20 +441,25 @@ def _features(rest: Array, triangles: Array, skin: Array, face: Array) -> FaceFe
 
 
 def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, up: Array
-                      ) -> tuple[Array, str] | None:
+                      ) -> tuple[Array, str, float] | None:
     """A better up when the one found is the way the face looks (a face's up is across its
     facing): a blink that moves the lid toward the camera, a ponytail longer than the head is
     tall. The face region's surface gives the facing (its area-weighted normals); of the two
     axes across it, the skin is mirror-symmetric across one (its left–right axis; the skin, as
-    the region one pose moves may be one side of it): up is the other, positive. None when the
-    up found is across the facing already."""
+    the region one pose moves may be one side of it): up is the other, positive. With how
+    surely the region looks one way (``sure``: the normals' sum over the sum of their lengths).
+    None when the up found is across the facing already."""
     tri = triangles[face[triangles].all(axis=1)]
     if not len(tri):
         return None
     p = rest[tri]
-    facing = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]).sum(axis=0)
+    normals = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    facing = normals.sum(axis=0)
     if np.linalg.norm(facing) == 0:
         return None
+    # how surely the region looks one way: 1 for a flat lid, less for skin wrapping round
+    # a chin (whose underside looks down as much as its front looks ahead)
+    sure = float(np.linalg.norm(facing) / np.linalg.norm(normals, axis=1).sum())
     facing, snapped = _snap(facing)
     if not snapped or abs(float(np.dot(facing, up))) < 0.5:
         return None
@@ -391,7 +469,17 @@ def _up_across_facing(rest: Array, triangles: Array, face: Array, skin: Array, u
     left = min(across, key=lambda axis: asymmetry(points, axis))
     up_vec = next(a for a in across if a is not left)
     return up_vec, (f"across the way the face looks ({axis_name(facing)}) and its left–right "
-                    "symmetry; give --up to choose")
+                    "symmetry; give --up to choose"), sure
+
+
+def _box_from_eyes(features: FaceFeatures, basis: Array) -> tuple[Array, Array]:
+    """The face's box (centre and half-extents in face axes) from its eyes and nose, in the
+    proportions of the sample's face, whose poses deform it from hairline to chin
+    (``EYES_BOX``): a head without poses is framed on its face, not its crown."""
+    eyes = np.asarray(features.eyes, np.float64)
+    apart = float(np.linalg.norm(eyes[0] - eyes[1]))
+    centre_offset, half = (np.asarray(v, np.float64) * apart for v in EYES_BOX)
+    return eyes.mean(axis=0) @ basis + centre_offset, half
 
 
 def _conventional_front(up: Array) -> tuple[Array, str]:
