@@ -6,7 +6,9 @@ nearest-neighbour enlarged so steps and seams show; and the furrow-tilt figures 
 synthesised map (``studio.core.wrinkles.normal_tilt``). The sheets carry no label that says
 which build made them: a reviewer compares them unlabelled.
 
-``python scripts/look_review.py OUT_DIR [POSE …]``
+``python scripts/look_review.py OUT_DIR [POSE …]``, or ``--production OUT_DIR`` for the head
+the tests build in production conventions (millimetres, Z up, UDIM tiles; set up by ``new
+--auto``), its face framed whole.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import numpy as np
 from PIL import Image
 
 from studio.core.project.ict_head import landmark_vertices
+from studio.core.setup.face_frame import aim
 from studio.core.setup.sample_setup import sample_project
 from studio.core.wrinkles.normal_tilt import furrow_tilt
 from studio.render.offscreen import OffscreenStudio
@@ -37,16 +40,44 @@ ENLARGE = 2
 LIGHTS = {"default": RenderSettings().light_dir, "raking": (0.95, 0.25, 0.18)}
 
 
-def pose_sheet(studio: OffscreenStudio, marks: np.ndarray, pose: str) -> Image.Image:
-    camera = studio.camera
-    camera.target = marks[list(POSES[pose])].mean(axis=0)
-    rows = []
-    for light in LIGHTS.values():
-        tiles = [studio.render(RenderSettings(technique=t, light_dir=light), {pose: 1.0})
-                 for t in ("none", "t1", "t2")]
-        rows.append(np.concatenate(tiles, axis=1))
+def sheet(studio: OffscreenStudio, pose: str) -> Image.Image:
+    """Techniques none, 1 and 2 across, the default and the raking light down, enlarged."""
+    rows = [np.concatenate([studio.render(RenderSettings(technique=t, light_dir=light),
+                                          {pose: 1.0}) for t in ("none", "t1", "t2")], axis=1)
+            for light in LIGHTS.values()]
     image = Image.fromarray(np.concatenate(rows, axis=0))
     return image.resize((image.width * ENLARGE, image.height * ENLARGE), Image.NEAREST)
+
+
+def pose_sheet(studio: OffscreenStudio, marks: np.ndarray, pose: str) -> Image.Image:
+    studio.camera.target = marks[list(POSES[pose])].mean(axis=0)
+    return sheet(studio, pose)
+
+
+def production(out: Path) -> None:
+    """Sheets of the production-conventions head's compressing poses, the face framed."""
+    import io
+    import tempfile
+    from contextlib import redirect_stdout
+
+    from studio.cli import main as cli
+    from studio.core.project.reader import load_project
+    from tests.production_head import COMPRESSING
+    from tests.test_production_head import import_head
+
+    out.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory() as folder:
+        _, args = import_head(Path(folder), "mm")
+        with redirect_stdout(io.StringIO()):
+            cli(args)
+        project = load_project(Path(folder) / "mm.wrinkle")
+    with OffscreenStudio(project, *TILE) as studio:
+        aim(studio.camera, project, "face")
+        studio.camera.yaw = 15.0
+        studio.camera.distance *= 0.6  # the face, not the whole head
+        for pose in COMPRESSING:
+            sheet(studio, pose).save(out / f"production_{pose}.png")
+            print(f"wrote {out / f'production_{pose}.png'}")
 
 
 def main(out: Path, poses: list[str]) -> None:
@@ -67,4 +98,7 @@ def main(out: Path, poses: list[str]) -> None:
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1]), sys.argv[2:])
+    if sys.argv[1] == "--production":
+        production(Path(sys.argv[2]))
+    else:
+        main(Path(sys.argv[1]), sys.argv[2:])

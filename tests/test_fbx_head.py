@@ -19,6 +19,7 @@ from studio.core.project.ict_head import load_ict_head
 from studio.core.project.reader import load_project
 from tests.fbx_blender import write_fbx
 from tests.test_blender_round_trip import changed_shares
+from tests.visibility import least
 
 JUDGED = ("browInnerUp_L", "browDown_L", "mouthSmile_L")  # brow raise, frown, smile
 
@@ -90,7 +91,8 @@ def test_new_auto_on_blender_s_fbx_shows_brow_raise_frown_and_smile(fbx_files, k
         # the frown: 1.09 % (t1) / 1.14 % (t2) with all 53 expressions set up, two lines
         # between the brows (issue 38; 1.8 / 2.0 % as a comb of three up the forehead); 0.8 /
         # 1.2 % before its mask and vectors held its glabellar lines whole
-        assert shares["t1"] >= 0.01 and shares["t2"] >= 0.01, (kind, pose, shares)
+        # (issue 45: furrows at skin's tilt, a one-sided pose's single line: tests/visibility)
+        assert min(shares["t1"], shares["t2"]) >= least(pose), (kind, pose, shares)
 
 
 def test_an_fbx_without_uvs_gets_them_made_and_said(tmp_path):

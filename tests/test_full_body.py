@@ -25,6 +25,7 @@ import pytest
 from studio.cli import main
 from studio.core.project.reader import load_project
 from tests.production_head import build_head
+from tests.visibility import least
 
 HEAD_AT = np.array([0.0, 16.0, 0.0])  # decimetres: where the head stands (a sample unit is 1 dm)
 # the pipeline's unit names → the production head's poses they are made of
@@ -41,7 +42,6 @@ JUDGED = {"brow raise": {"eyebrows-inner-up": 1.0},
 # ≥ 0.5 % (0.82 / 0.60 % with t1 / t2 here, 0.71 / 0.62 % on the VRM avatar; 1.6 / 1.4 % and
 # 1.5 / 1.5 % as a comb of three lines up the forehead; 1.15 / 0.98 % before its mask and
 # vectors held its glabellar lines whole)
-LEAST = {"squint": 0.005, "frown": 0.005}
 HELPERS = ("short02", "joint-head", "joint-l-eye", "joint-r-eye", "helper-tights")
 NOT_SKIN = ("HighPolyEyes", "teeth_base", "Eyelashes01")
 
@@ -250,7 +250,7 @@ def not_skin_pixels(project, size: int) -> np.ndarray:
 def judge_renders(project, units: dict[str, dict[str, float]], size: int = 800
                   ) -> dict[tuple[str, str], float]:
     """Each expression (its units' weights) in a default render: the share of the picture t1
-    and t2 change (≥ 1 % each, or ``LEAST``), none of it on the eyes, teeth or lashes (edge
+    and t2 change (``tests.visibility.least``), none of it on the eyes, teeth or lashes (edge
     pixels aside)."""
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
@@ -271,7 +271,7 @@ def judge_renders(project, units: dict[str, dict[str, float]], size: int = 800
                 on_eyes[what, technique] = float(changed[eyes].mean())
     print({k: f"{v:.2%}" for k, v in shares.items()}, on_eyes)
     for (what, technique), share in shares.items():
-        assert share >= LEAST.get(what, 0.01), (what, technique, shares)
+        assert share >= least(what), (what, technique, shares)
     assert max(on_eyes.values()) < 0.02, on_eyes
     return shares
 

@@ -276,13 +276,14 @@ def test_a_squint_draws_crow_s_feet_beside_the_outer_corner_of_the_eye(sample) -
 def test_a_smile_draws_one_nasolabial_fold_and_bunches_the_cheek_under_the_eye(sample) -> None:
     """A left smile: one deep fold from the wing of the nose down past the mouth corner, along
     that line, and two short lines where the cheek bunches under the eye — where an artist
-    paints a smile — not parallel lines over the whole cheek. Measured 41 / 43 % of its
-    change on the fold (t2 / t1) and 20 / 21 % under the eye, the fold's long axis 3° / 3° off
-    the line nose wing → mouth corner (46 and 28 % with a fold half as wide and deeper, a
-    trench with hard walls); 13 % on the fold and 3 % under the eye (t2) before."""
+    paints a smile — not parallel lines over the whole cheek. Measured 37 / 39 % of its
+    change on the fold (t2 / t1) and 17 / 18 % under the eye, the fold's long axis 9° off the
+    line nose wing → mouth corner since issue 45's soft fold at skin's tilt (41 / 43 % and
+    20 / 21 %, 3° as a deep trench the reviewers scored 0; 46 and 28 % with a fold half as
+    wide and deeper); 13 % on the fold and 3 % under the eye (t2) before."""
     for technique in ("t2", "t1"):
         f = sample["mouthSmile_L", technique]
-        assert f.fold >= 0.4 and f.fold + f.under_eye >= 0.6, (technique, f)
+        assert f.fold >= 0.3 and f.fold + f.under_eye >= 0.45, (technique, f)
         assert f.slant <= 25.0, (technique, f)
 
 
@@ -314,9 +315,11 @@ def production_project(folder: Path, vertices: int) -> Project:
 def test_a_head_in_other_conventions_and_a_coarse_one_frown_and_raise_alike(
         tmp_path, vertices: int) -> None:
     """The production-conventions head at the thesis's 2172 vertices and coarse at 561:
-    the brow lowerer's lines vertical (measured Gy/Gx 0.12 and 0.07, coherence 0.80 and 0.89
-    with t2; 2.5 and 0.47 before, horizontal), the brow raise's across (9.6, 0.84), the smile
-    orderly (coherence 0.82 and 0.89). Its brows sit lower in its face box than the ICT head's: its
+    the brow lowerer's line vertical (measured Gy/Gx 0.45 and 0.15, coherence 0.39 and 0.83
+    with t2: since issue 45 one soft line on its own side, bent where it follows the squeeze,
+    at 2172 vertices; 0.12 and 0.07, 0.80 and 0.89 as two stamped slots; 2.5 and 0.47
+    before them, horizontal), the brow raise's across (10.6, 0.89), the smile orderly
+    (coherence 0.71 and 0.83). Its brows sit lower in its face box than the ICT head's: its
     lines begin where its brow lowerer squeezes the skin, too short a band for a line across
     the root of the nose."""
     project = production_project(tmp_path, vertices)
@@ -325,6 +328,6 @@ def test_a_head_in_other_conventions_and_a_coarse_one_frown_and_raise_alike(
     for technique in ("t2", "t1"):
         frown, raise_, smile = (found[p, technique] for p in ("browDown_L", "browInnerUp",
                                                                 "mouthSmile_L"))
-        assert frown.ratio <= 0.33 and frown.coherence >= 0.6, (technique, frown)
+        assert frown.ratio <= 0.5 and frown.coherence >= 0.35, (technique, frown)
         assert raise_.ratio >= 3.0 and raise_.coherence >= 0.7, (technique, raise_)
         assert smile.coherence >= 0.55, (technique, smile)
