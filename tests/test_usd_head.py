@@ -80,10 +80,11 @@ def test_new_auto_on_a_usdz_head_shows_its_poses_wrinkles(usd_files, tmp_path):
     shape, weight, _ = INBETWEEN
     assert {a.pose for a in project.wdv.areas} == {*POSES, f"{shape} at {weight:g}"}
     # with these four poses alone: the brow raise 4.1 / 3.4 % (t1 / t2) of an 800² render, the
-    # smile 1.2 %; the frown 0.09 / 0.10 % since issue 45 (one soft line on its own side, at
-    # skin's tilt, on this dark texture: 0.43 % as two stamped slots)
+    # smile 0.74 / 0.80 % (1.2 % with deep furrows); the frown 0.09 / 0.10 % since issue 45
+    # (one soft line on its own side, at skin's tilt, on this dark texture: 0.43 % as two
+    # stamped slots)
     floors = {POSES[0]: 0.02, POSES[1]: 0.0006, f"{shape} at {weight:g}": 0.0006,
-              POSES[2]: 0.008}
+              POSES[2]: 0.005}
     for pose, floor in floors.items():
         shares = changed_shares(project, pose)
         assert shares["t1"] >= floor and shares["t2"] >= floor, (pose, shares)
