@@ -18,6 +18,7 @@ FIELD_WIDTH = 64
 
 class SliderRow(QWidget):
     edited = Signal(float, object)  # value, gesture token (None for a single step)
+    touched = Signal()  # the person took hold of the slider, whether or not it then moved
 
     def __init__(self, label: str, minimum: float = 0.0, maximum: float = 1.0,
                  decimals: int = 2, suffix: str = "", parent: QWidget | None = None) -> None:
@@ -58,6 +59,7 @@ class SliderRow(QWidget):
 
     def _begin(self) -> None:
         self._gesture = new_gesture()
+        self.touched.emit()
 
     def _end(self) -> None:
         self._gesture = None

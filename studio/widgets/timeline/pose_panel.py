@@ -85,6 +85,9 @@ class PosePanel(QScrollArea):
         for pose in self.doc.project.poses:
             row = SliderRow(pose_label(pose.name))
             row.edited.connect(lambda v, g, n=pose.name: self._pose_edited(n, v, g))
+            # the pose K keys is the one last taken hold of, even by a drag that ended where
+            # it began: keying another pose, unseen, was the surprise
+            row.touched.connect(lambda n=pose.name: self.poseEdited.emit(n))
             pose_layout.addWidget(row)
             self.pose_rows[pose.name] = row
         reset = QPushButton("Back to neutral")

@@ -6,13 +6,10 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox, QVBoxLayout, QWidget
 
-from studio.core.wrinkles.techniques import TECHNIQUE_LIST
 from studio.widgets.document import Document
 from studio.widgets.slider_row import SliderRow
+from studio.widgets.viewport.techniques import TECHNIQUE_CHOICES, choose_technique
 
-# every technique of the registry but flat shading (a benchmark baseline), then the split view
-TECHNIQUE_CHOICES = [*((t.label, t.key) for t in TECHNIQUE_LIST if t.key != "flat"),
-                     ("Split: t1 | t2 | automatic", "split")]
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Heat: weight", "heat"), ("Heat: what shows", "heat-shows"),
                ("Normals", "normals"), ("UV checker", "uv")]
 COMBO_CHARACTERS = 16  # what a closed list shows of its choice before eliding it
@@ -100,11 +97,7 @@ class ShadingPanel(QWidget):
         self._show_values()
 
     def _technique_chosen(self) -> None:
-        key = self.technique.currentData()
-        if key == "split":
-            self.doc.set_view(split=True)
-        else:
-            self.doc.set_view(split=False, technique=key)
+        choose_technique(self.doc, self.technique.currentData())
 
     def _fit_relief_range(self) -> None:
         """The depth slider spans 0 to 5% of the face's size, whatever its units."""
