@@ -332,6 +332,24 @@ def walk(window, phase: str, limit: int = 0) -> int:
     return count
 
 
+def add_and_link(window) -> None:
+    """Add an area and link a pose to it by typing its name in "Add pose…", as a person does
+    first: the walk then reaches the fields a panel shows only after a link or an area is
+    added (the new link's gain, its curve, its plot), made by that gesture and not present
+    when the panel was built."""
+    panel = window.mask_tools.panel
+    window.docks["Areas"].show()
+    window.docks["Areas"].raise_()
+    _settle(20)
+    _say("ACT area | Areas › Influence areas › Add | click")
+    click(_button(panel, "Add"))
+    _settle(20)
+    pose = window.doc.project.pose_names[-1]
+    _say(f"ACT area | Areas › Add pose… | type {pose} + Return")
+    type_then(pose, K.Key_Return)(panel.add_pose)
+    _settle(50)
+
+
 def _select_other(window, phase: str) -> None:
     """Move the selection a person would move between walks, with real clicks and keys."""
     if phase == "area":
@@ -339,6 +357,7 @@ def _select_other(window, phase: str) -> None:
         if panel.list.count() > 1:
             list_walk(panel.list)
             QTest.keyClick(panel.list, K.Key_Down)
+        add_and_link(window)
     elif phase == "vector area":
         panel = window.wdv_tools.panel
         view = panel.area_list

@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, Qt, QTimer
 from PySide6.QtWidgets import QApplication, QFileDialog, QLineEdit, QPushButton
-
 from shiboken6 import isValid
 
 from tests.gui_helpers import bring_forward, drag_slider, viewport_image
@@ -69,7 +68,7 @@ def test_a_new_area_linked_to_a_pose_reveals_that_poses_map_shows_technique_1_an
     assert window.viewport.technique_switch.text().startswith("Technique 1")
     assert doc.undo_stack.count() == steps + 1  # the link and its map: one step
     qtbot.keyClick(window, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
-    assert area.wrinkle_map == "" and pose not in doc.project.influence.links \
+    assert (area.wrinkle_map == "" and pose not in doc.project.influence.links) \
         or area.name not in doc.project.influence.links.get(pose, {})
 
     # a map the person chose stays chosen when a further pose is linked
@@ -109,7 +108,7 @@ def test_add_pose_is_beside_the_area_list_without_scrolling(window, qtbot):
     panel.verticalScrollBar().setValue(0)
     field = panel.add_pose
     top = field.mapTo(panel.viewport(), QPoint(0, 0)).y()
-    assert 0 <= top and top + field.height() <= panel.viewport().height(), \
+    assert top >= 0 and top + field.height() <= panel.viewport().height(), \
         f"Add pose… at y = {top} in a {panel.viewport().height()}-pixel panel"
 
 
@@ -193,7 +192,7 @@ def test_a_box_selection_is_said_in_words_on_the_picture_and_its_dots_go_with_th
     top = label.mapTo(panel.viewport(), QPoint(0, 0)).y()
     panel.verticalScrollBar().setValue(0)
     top = label.mapTo(panel.viewport(), QPoint(0, 0)).y()
-    assert 0 <= top and top + label.height() <= panel.viewport().height()
+    assert top >= 0 and top + label.height() <= panel.viewport().height()
     selecting = viewport_image(window)
     assert not np.array_equal(selecting, before)  # the dots, while selecting
     qtbot.keyClick(vp, Qt.Key.Key_S)  # the tool left: the face as it was, no dots over it
