@@ -37,7 +37,7 @@ def _verdict(rc: int, out: str) -> str:
     return f"the studio died ({how}) at: {last}\n{tail}"
 
 
-@pytest.mark.parametrize("phases", ["start", "area,vector area,pose,map,scenarios"])
+@pytest.mark.parametrize("phases", ["start", "area,link,vector area,pose,map,scenarios"])
 def test_no_gesture_on_any_panel_field_crashes_the_studio(tmp_path, phases):
     rc, out = run_monkey(tmp_path, "--phases", phases)
     assert rc == 0 and "DONE" in out, _verdict(rc, out)

@@ -242,3 +242,27 @@ def test_exports_start_beside_the_project_take_a_new_folder_and_say_where(
     qtbot.waitUntil(page.is_file, timeout=30000)
     assert seen == [str(project.parent)]
     assert str(page) in window.statusBar().currentMessage()
+
+
+@pytest.mark.parametrize("window_size", [(1280, 720), (1440, 900), (1920, 1080)])
+def test_no_word_is_cut_in_any_panel_at_any_size(open_window, window_size, qtbot):
+    """Every label, drop-down, list and tab of every panel (each in front of its tabs in
+    turn), measured with its own font against its room: nothing elided, clipped or scrolled
+    sideways — on the real sample head, whose pose names are the longest."""
+    from studio.widgets.main_window import sample_project
+    from tests.cut_text import cut_texts
+
+    window = open_window(sample_project())
+    cut: list[str] = []
+    for title, dock in window.docks.items():
+        if title == "History":
+            continue
+        dock.show()
+        dock.raise_()
+        qtbot.wait(100)
+        cut += [f"{title}: {why}" for why in cut_texts(window)
+                if not why.startswith("label “frame ")]  # (the frame time: next check)
+    frame = window._frame_label
+    assert frame.minimumWidth() >= frame.fontMetrics().horizontalAdvance(
+        "frame 9999.9 ms (999 FPS)")
+    assert not cut, "\n".join(sorted(set(cut)))

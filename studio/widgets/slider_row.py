@@ -74,9 +74,22 @@ class SliderRow(QWidget):
     def value(self) -> float:
         return self.spin.value()
 
+    def label_needs(self) -> int:
+        """Pixels the label's words take in its font."""
+        return self.label.fontMetrics().horizontalAdvance(self.label.text()) + 2
+
     def set_value(self, value: float) -> None:
         """Show a value that came from the document, without emitting an edit."""
         for widget, v in ((self.slider, self._to_slider(value)), (self.spin, value)):
             widget.blockSignals(True)
             widget.setValue(v)
             widget.blockSignals(False)
+
+
+def fit_labels(rows: list[SliderRow]) -> None:
+    """One label column for a panel's rows, as wide as the widest name needs and at least
+    ``LABEL_WIDTH``: "mouthLowerDown_L" and "Expression factor" read whole, and the sliders
+    still line up."""
+    width = max([LABEL_WIDTH, *(row.label_needs() for row in rows)])
+    for row in rows:
+        row.label.setFixedWidth(width)

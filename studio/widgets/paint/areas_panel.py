@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import QEvent, QObject, QSettings, Qt, QTimer, Signal
+from PySide6.QtCore import QEvent, QObject, QSettings, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QIcon, QPixmap
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -172,7 +172,7 @@ class AreaRow(QWidget):
         self.colour.setToolTip("Change the area's colour")
         self.colour.setAutoRaise(True)
         self.name = QLabel(area.name)
-        self.name.setMinimumWidth(110)
+        self.name.setMinimumWidth(max(110, self.name.sizeHint().width()))  # never cut
         self.editor = QLineEdit(area.name)  # the name, renamed in place (F2, double-click)
         self.editor.hide()
         self.editor.returnPressed.connect(self._renamed)
@@ -316,7 +316,11 @@ class AreasPanel(QScrollArea):
         box = QGroupBox("Influence areas")
         v = QVBoxLayout(box)
         self.list = QListWidget()
-        self.list.setMinimumHeight(150)  # with Add pose… below it, above the fold at 720
+        # with Add pose… below it, above the fold at 720 pixels
+        self.list.setMinimumHeight(150)
+        # rows as wide as the list (their sliders give way), never a sideways scroll bar
+        # over the activation values
+        self.list.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.list.currentRowChanged.connect(self._row_selected)
         self.list.itemDoubleClicked.connect(lambda _: self.rename())
         self.list.installEventFilter(self)  # F2 renames, as in the Wrinkle vectors list
@@ -508,7 +512,7 @@ class AreasPanel(QScrollArea):
         for i, _area in enumerate(areas):
             item = QListWidgetItem()
             row = AreaRow(self, i)
-            item.setSizeHint(row.sizeHint())
+            item.setSizeHint(QSize(0, row.sizeHint().height()))  # the list's width
             self.list.addItem(item)
             self.list.setItemWidget(item, row)
             self.rows.append(row)

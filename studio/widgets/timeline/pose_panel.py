@@ -16,7 +16,7 @@ from PySide6.QtWidgets import (
 )
 
 from studio.widgets.document import Document
-from studio.widgets.slider_row import SliderRow
+from studio.widgets.slider_row import SliderRow, fit_labels
 
 
 class ActivationBar(QWidget):
@@ -90,6 +90,7 @@ class PosePanel(QScrollArea):
             row.touched.connect(lambda n=pose.name: self.poseEdited.emit(n))
             pose_layout.addWidget(row)
             self.pose_rows[pose.name] = row
+        fit_labels(list(self.pose_rows.values()))
         reset = QPushButton("Back to neutral")
         reset.setToolTip("Set every key-pose weight to 0")
         reset.clicked.connect(self._reset_pose)

@@ -7,7 +7,7 @@ import numpy as np
 from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox, QVBoxLayout, QWidget
 
 from studio.widgets.document import Document
-from studio.widgets.slider_row import SliderRow
+from studio.widgets.slider_row import SliderRow, fit_labels
 from studio.widgets.viewport.techniques import TECHNIQUE_CHOICES, choose_technique
 
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Heat: weight", "heat"), ("Heat: what shows", "heat-shows"),
@@ -25,6 +25,9 @@ class ShadingPanel(QWidget):
         layout = QVBoxLayout(self)
         view_box = QGroupBox("Display")
         form = QFormLayout(view_box)
+        # each choice under its name, the column's whole width: "MikkTSpace (Blender,
+        # Substance, engines)" reads in full in a 360-pixel column
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapAllRows)
         self.technique = QComboBox()
         for text, key in TECHNIQUE_CHOICES:
             self.technique.addItem(text, key)
@@ -58,10 +61,11 @@ class ShadingPanel(QWidget):
         form.addRow(self.relief_depth)
         self.tangent_frame = QComboBox()
         self.tangent_frame.setObjectName("tangent_frame")
-        self.tangent_frame.addItem("MikkTSpace (Blender, Substance, engines)", "mikktspace")
+        self.tangent_frame.addItem("MikkTSpace (Blender, engines)", "mikktspace")
         self.tangent_frame.addItem("Per-triangle sums (thesis)", "thesis")
         self.tangent_frame.setToolTip(
-            "The tangent frame the normal maps were baked in; baking and the glTF export use "
+            "The tangent frame the normal maps were baked in (MikkTSpace: Blender, Substance, "
+            "game engines); baking and the glTF export use "
             "it too. Maps from today's bakers need MikkTSpace")
         self.tangent_frame.activated.connect(
             lambda: document.set_view(tangent_frame=self.tangent_frame.currentData()))
@@ -87,6 +91,7 @@ class ShadingPanel(QWidget):
         t2_form.addRow(self.cone)
         layout.addWidget(t2_box)
         layout.addStretch(1)
+        fit_labels(self.findChildren(SliderRow))
         for combo in self.findChildren(QComboBox):  # a narrow column; the lists show in full
             combo.setSizeAdjustPolicy(
                 QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
