@@ -74,6 +74,15 @@ class SliderRow(QWidget):
     def value(self) -> float:
         return self.spin.value()
 
+    def compact(self) -> None:
+        """A value field without step arrows, as wide as its widest value (Blender's shape-key
+        values are plain fields too): the room goes to the name and the slider. Typing and
+        the arrow keys still edit it."""
+        self.spin.setButtonSymbols(QDoubleSpinBox.ButtonSymbols.NoButtons)
+        text = self.spin.textFromValue(self.spin.maximum()) + self.spin.suffix()
+        self.spin.setFixedWidth(self.spin.fontMetrics().horizontalAdvance(text) + 14)
+        self.layout().setSpacing(4)
+
     def label_needs(self) -> int:
         """Pixels the label's words take in its font."""
         return self.label.fontMetrics().horizontalAdvance(self.label.text()) + 2

@@ -84,6 +84,7 @@ class PosePanel(QScrollArea):
         self.pose_rows = {}
         for pose in self.doc.project.poses:
             row = SliderRow(pose_label(pose.name))
+            row.compact()  # a rig's long names whole and a slider of 100 pixels in the column
             row.edited.connect(lambda v, g, n=pose.name: self._pose_edited(n, v, g))
             # the pose K keys is the one last taken hold of, even by a drag that ended where
             # it began: keying another pose, unseen, was the surprise
