@@ -7,7 +7,9 @@ had no switch; Add pose… sat below the fold; a drag that changed nothing left 
 pose dragged before, and "Keyed …" was replaced by "drawing at … while you move" and then
 cleared although nothing moved; a click or box selection said "screen view: … ms" or nothing
 and its dots stayed over the face; the glTF dialog opened away from the project and the web
-export's folder dialog refused a typed new folder.
+export's folder dialog refused a typed new folder; every size found cut words (tabs "P…",
+"Expression facto", the Areas list scrolling sideways). Solo keeping the pose was never seen
+red here (Solo did not reset the pose on this machine): it stays as the issue's guard.
 """
 
 from __future__ import annotations
