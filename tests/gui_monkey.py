@@ -14,7 +14,8 @@ the widget under the pointer or with the focus, never a setter. Dialogs a gestur
 answered with their default (message boxes) or cancelled (file, colour and text dialogs).
 
 Phases repeat the walk after the selection moved: another influence area, another vector area,
-another pose in the timeline, another wrinkled map.
+another pose in the timeline, another wrinkled map; and after a new area is added and linked
+to a pose by typing its name (``link``), the fields that gesture made.
 """
 
 from __future__ import annotations
@@ -293,8 +294,12 @@ def gestures(widget: QWidget) -> Iterator[tuple[str, Gesture]]:
 
 # --- the walk -----------------------------------------------------------------------------------
 # After the selection moves, the panels that show what is selected are walked again.
-PHASE_DOCKS = {"start": None, "area": ("Areas", "UV Paint"), "vector area": ("Wrinkle vectors",),
-               "pose": ("Poses", "Timeline"), "map": ("Areas",)}
+PHASE_DOCKS = {"start": None, "area": ("Areas", "UV Paint"), "link": ("Areas",),
+               "vector area": ("Wrinkle vectors",), "pose": ("Poses", "Timeline"),
+               "map": ("Areas",)}
+# phases that walk what a gesture just made: the lists are left alone (walking one would move
+# the selection off the new area before its fields are reached)
+KEEP_SELECTION = ("link",)
 
 
 def walk(window, phase: str, limit: int = 0) -> int:
@@ -314,6 +319,8 @@ def walk(window, phase: str, limit: int = 0) -> int:
             fields = _fields(dock)  # a gesture may rebuild the panel
             if i >= len(fields):
                 break
+            if phase in KEEP_SELECTION and isinstance(fields[i], QAbstractItemView):
+                continue
             name = describe(fields[i])
             alike = f"{type(fields[i]).__name__} {name.split(' › ')[0]}"
             seen[alike] = seen.get(alike, 0) + 1
@@ -332,6 +339,24 @@ def walk(window, phase: str, limit: int = 0) -> int:
     return count
 
 
+def add_and_link(window) -> None:
+    """Add an area and link a pose to it by typing its name in "Add pose…", as a person does
+    first: the walk then reaches the fields a panel shows only after a link or an area is
+    added (the new link's gain, its curve, its plot), made by that gesture and not present
+    when the panel was built."""
+    panel = window.mask_tools.panel
+    window.docks["Areas"].show()
+    window.docks["Areas"].raise_()
+    _settle(20)
+    _say("ACT link | Areas › Influence areas › Add | click")
+    click(_button(panel, "Add"))
+    _settle(20)
+    pose = window.doc.project.pose_names[-1]
+    _say(f"ACT link | Areas › Add pose… | type {pose} + Return")
+    type_then(pose, K.Key_Return)(panel.add_pose)
+    _settle(50)
+
+
 def _select_other(window, phase: str) -> None:
     """Move the selection a person would move between walks, with real clicks and keys."""
     if phase == "area":
@@ -339,6 +364,8 @@ def _select_other(window, phase: str) -> None:
         if panel.list.count() > 1:
             list_walk(panel.list)
             QTest.keyClick(panel.list, K.Key_Down)
+    elif phase == "link":
+        add_and_link(window)
     elif phase == "vector area":
         panel = window.wdv_tools.panel
         view = panel.area_list
@@ -518,7 +545,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--test-face", action="store_true",
                         help="the small procedural face instead of the bundled sample")
-    parser.add_argument("--phases", default="start,area,vector area,pose,map")
+    parser.add_argument("--phases", default="start,area,link,vector area,pose,map")
     parser.add_argument("--docks", default="", help="comma-separated dock titles (default all)")
     parser.add_argument("--gain-check", action="store_true",
                         help="type into one gain field and say what the document shows")

@@ -4,7 +4,10 @@ The monkey (tests/gui_monkey.py) runs in a child process on the bundled sample h
 (a segmentation fault in Qt, a Python exception in a slot, a hang) is a red test that names the
 last field and gesture, not a dead test run. Seen red: with the Areas panel's links form emptied
 by ``QFormLayout.removeRow`` again (deleting the gain field inside its own Return), the walk dies
-at "Selected area: wrinkled map and pose links › … QDoubleSpinBox | type 1 + Return".
+at "Selected area: wrinkled map and pose links › … QDoubleSpinBox | type 1 + Return". The
+``link`` phase (issue #47) adds an area and links a pose by typing before walking the Areas
+panel, so the fields such a gesture makes are walked too: with ``removeRow`` put back it dies at
+the fresh link's gain ("type 0 + Tab").
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ def _verdict(rc: int, out: str) -> str:
     return f"the studio died ({how}) at: {last}\n{tail}"
 
 
-@pytest.mark.parametrize("phases", ["start", "area,vector area,pose,map,scenarios"])
+@pytest.mark.parametrize("phases", ["start", "area,link,vector area,pose,map,scenarios"])
 def test_no_gesture_on_any_panel_field_crashes_the_studio(tmp_path, phases):
     rc, out = run_monkey(tmp_path, "--phases", phases)
     assert rc == 0 and "DONE" in out, _verdict(rc, out)

@@ -22,8 +22,8 @@ def test_the_web_page_is_exported_from_the_file_menu_as_the_viewport_shows_it(
     assert doc.view.blend == "normal"
     doc.camera.yaw = 25.0
     target = tmp_path / "page"
-    monkeypatch.setattr(QFileDialog, "getExistingDirectory",
-                        staticmethod(lambda *_a, **_k: str(target)))
+    monkeypatch.setattr(QFileDialog, "getSaveFileName",
+                        staticmethod(lambda *_a, **_k: (str(target), "")))
     click_menu_path(qtbot, window, "File", "Export", "Web Page…")
     page = target / "index.html"
     qtbot.waitUntil(page.is_file, timeout=20000)

@@ -22,8 +22,10 @@ the sample's expressions; drag a slider in <b>Poses</b> to pose it yourself.</p>
 <ol>
 <li><b>Areas</b> panel: <b>Add</b> an area (or pick one).</li>
 <li>Paint its mask on the <b>UV Paint</b> canvas, or on the face with <b>B</b>.</li>
-<li>Under <i>driven by</i>, <b>Add pose…</b>: type part of a pose's name (<i>browDown</i>),
-Return. Set its gain.</li>
+<li>Under the list, <b>Add pose…</b>: type part of a pose's name (<i>browDown</i>),
+Return. The area now reveals that pose's own wrinkled map, and the face shows technique 1
+(the label at the viewport's top left says which technique shows; click it to switch).
+Set the gain.</li>
 <li>Move that pose's slider in <b>Poses</b>: the wrinkles appear inside the mask.</li>
 </ol>
 <p>Faster: pick a pose under <i>From pose</i> and press <b>Auto mask</b>.</p>

@@ -25,6 +25,7 @@ from studio.widgets.about import show_about
 from studio.widgets.app_settings import last_folder, settings
 from studio.widgets.autosave import install_autosave
 from studio.widgets.background import run_with_progress
+from studio.widgets.dock_tabs import keep_dock_tab_words
 from studio.widgets.document import Document
 from studio.widgets.getting_started import install_getting_started
 from studio.widgets.maps.auto_tools import install_auto_tools
@@ -43,6 +44,7 @@ PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
 # The default layout: these panels as tabs in one right-hand column, in this order.
 RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "UV Paint")
+FRAME_TEXT = "frame {:.1f} ms ({:.0f} FPS)"
 SIDE_WIDTH = 360  # pixels: the right-hand column (a pose slider gets 100 of them)
 TIMELINE_HEIGHT = 200  # pixels: the timeline strip under the viewport
 
@@ -103,6 +105,9 @@ class MainWindow(QMainWindow):
         install_autosave(self)  # autosave, crash recovery, undo memory budget
         install_wheel_guard()  # the wheel scrolls panels; it edits a field only once focused
         self._frame_label = QLabel("")
+        # room for the longest reading, so a slow frame's time is not cut at the edge
+        self._frame_label.setMinimumWidth(
+            self._frame_label.fontMetrics().horizontalAdvance(FRAME_TEXT.format(9999.9, 999)))
         self.statusBar().addPermanentWidget(self._frame_label)
         self._build_menus()
         install_map_tools(self)  # Maps menu and File ▸ Export, needs the menus
@@ -110,6 +115,7 @@ class MainWindow(QMainWindow):
         install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
         install_capture_tools(self)  # File ▸ Import Capture…, needs the menus and timeline
+        keep_dock_tab_words(self)  # (before the docks are tabbed: their bars are made then)
         self._arrange_docks()
         install_getting_started(self)  # Help ▸ Getting Started; shown at the first start
         self.doc.modifiedChanged.connect(self.setWindowModified)
@@ -299,7 +305,7 @@ class MainWindow(QMainWindow):
         self.setWindowModified(self.doc.modified)
 
     def _show_frame_time(self, ms: float) -> None:
-        self._frame_label.setText(f"frame {ms:.1f} ms ({1000.0 / max(ms, 1e-3):.0f} FPS)")
+        self._frame_label.setText(FRAME_TEXT.format(ms, 1000.0 / max(ms, 1e-3)))
         if self.viewport.frames_rendered == 1:
             self.firstFrame.emit()
 

@@ -18,6 +18,7 @@ FIELD_WIDTH = 64
 
 class SliderRow(QWidget):
     edited = Signal(float, object)  # value, gesture token (None for a single step)
+    touched = Signal()  # the person took hold of the slider, whether or not it then moved
 
     def __init__(self, label: str, minimum: float = 0.0, maximum: float = 1.0,
                  decimals: int = 2, suffix: str = "", parent: QWidget | None = None) -> None:
@@ -58,6 +59,7 @@ class SliderRow(QWidget):
 
     def _begin(self) -> None:
         self._gesture = new_gesture()
+        self.touched.emit()
 
     def _end(self) -> None:
         self._gesture = None
@@ -72,9 +74,31 @@ class SliderRow(QWidget):
     def value(self) -> float:
         return self.spin.value()
 
+    def compact(self) -> None:
+        """A value field without step arrows, as wide as its widest value (Blender's shape-key
+        values are plain fields too): the room goes to the name and the slider. Typing and
+        the arrow keys still edit it."""
+        self.spin.setButtonSymbols(QDoubleSpinBox.ButtonSymbols.NoButtons)
+        text = self.spin.textFromValue(self.spin.maximum()) + self.spin.suffix()
+        self.spin.setFixedWidth(self.spin.fontMetrics().horizontalAdvance(text) + 14)
+        self.layout().setSpacing(4)
+
+    def label_needs(self) -> int:
+        """Pixels the label's words take in its font."""
+        return self.label.fontMetrics().horizontalAdvance(self.label.text()) + 2
+
     def set_value(self, value: float) -> None:
         """Show a value that came from the document, without emitting an edit."""
         for widget, v in ((self.slider, self._to_slider(value)), (self.spin, value)):
             widget.blockSignals(True)
             widget.setValue(v)
             widget.blockSignals(False)
+
+
+def fit_labels(rows: list[SliderRow]) -> None:
+    """One label column for a panel's rows, as wide as the widest name needs and at least
+    ``LABEL_WIDTH``: "mouthLowerDown_L" and "Expression factor" read whole, and the sliders
+    still line up."""
+    width = max([LABEL_WIDTH, *(row.label_needs() for row in rows)])
+    for row in rows:
+        row.label.setFixedWidth(width)

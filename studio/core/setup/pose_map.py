@@ -13,6 +13,7 @@ import numpy as np
 
 from studio.core.project.model import Project
 from studio.core.wrinkles.flat_reveal import reveal_maps
+from studio.core.wrinkles.influence import InfluenceArea
 
 
 def wrinkle_map_for_pose(project: Project, pose: str, mask: np.ndarray) -> str:
@@ -34,3 +35,14 @@ def wrinkle_map_for_pose(project: Project, pose: str, mask: np.ndarray) -> str:
         return 1.0 if reveal is None else reveal.share
 
     return min(names, key=flat_share)  # (ties: the first, as before)
+
+
+def map_on_link(project: Project, area: InfluenceArea, pose: str) -> str | None:
+    """The map ``area`` should reveal once ``pose`` drives it, or None to keep its own: an
+    area whose map nobody chose ("" = the first, the default of a new area) and that no pose
+    drives yet reveals the pose's map, as Auto mask's areas do; a chosen map stays chosen."""
+    if area.wrinkle_map or any(gains.get(area.name) for gains in
+                               project.influence.links.values()):
+        return None
+    name = wrinkle_map_for_pose(project, pose, area.mask)
+    return name or None

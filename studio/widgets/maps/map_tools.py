@@ -25,6 +25,9 @@ WRINKLED = "wrinkled:"  # map keys "wrinkled:NAME" name one of several wrinkled 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga);;All files (*)"
 
 
+SAY_MS = 15000  # where an export wrote: long enough to read a path
+
+
 def map_label(key: str) -> str:
     if key.startswith(WRINKLED):
         return f"wrinkled map “{key[len(WRINKLED):]}”"
@@ -224,23 +227,33 @@ class MapTools:
         menu.addAction("Add Wrinkled Map…", self.add_wrinkled)
         menu.addAction("Add Wrinkled Map from Height Map…", lambda: self.add_wrinkled(True))
 
+    def _beside_project(self, name: str) -> str:
+        """Where an export's dialog starts: beside the project file (as Blender's exporters
+        start beside the .blend), else beside the face's mesh or in the last folder chosen —
+        never the folder the studio happened to be started from."""
+        return str(Path(start_folder(self.doc.path, self.doc.project.mesh.source)) / name)
+
     def export_gltf(self) -> None:
-        name, _ = QFileDialog.getSaveFileName(self.window, "Export glTF",
-                                              f"{self.doc.display_name}.glb",
-                                              "Binary glTF (*.glb)")
+        name, _ = QFileDialog.getSaveFileName(
+            self.window, "Export glTF", self._beside_project(f"{self.doc.display_name}.glb"),
+            "Binary glTF (*.glb)")
         if name:
             from studio.core.project.gltf import save_gltf
 
-            self._export(lambda: save_gltf(self.doc.project, Path(name),
-                                           self.doc.view.tangent_frame), name)
+            path = Path(name) if name.lower().endswith(".glb") else Path(name + ".glb")
+            self._export(lambda: save_gltf(self.doc.project, path,
+                                           self.doc.view.tangent_frame), str(path))
 
     def export_web(self) -> None:
         """File ▸ Export ▸ Web Page…: the face as the viewport shows it now (camera, light,
         blend, tangent frame), with its timeline, in one self-contained index.html that any
-        browser opens without a network (core/project/web_export.py)."""
-        folder = QFileDialog.getExistingDirectory(
-            self.window, "Export a web page into a folder (index.html)",
-            str(Path(self.doc.path).parent if self.doc.path else Path.home()))
+        browser opens without a network (core/project/web_export.py). The folder is named in a
+        save dialog, which takes a new name typed in it (a folder dialog takes only folders
+        that exist); an existing folder chosen there is written into."""
+        folder, _ = QFileDialog.getSaveFileName(
+            self.window, "Export a web page: the folder for its index.html",
+            self._beside_project(f"{self.doc.display_name} web page"), "Folder (*)",
+            options=QFileDialog.Option.DontConfirmOverwrite)
         if not folder:
             return
         from studio.core.files.safe_io import check_output_folder
@@ -269,7 +282,7 @@ class MapTools:
             self.window.show_error("Cannot export", exc)
             return
         QApplication.restoreOverrideCursor()
-        self.window.statusBar().showMessage(f"Exported to {target}", 5000)
+        self.window.statusBar().showMessage(f"Exported to {Path(target).resolve()}", SAY_MS)
 
 
 def install_map_tools(window) -> MapTools:

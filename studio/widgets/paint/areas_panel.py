@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import QEvent, QObject, QSettings, Qt, QTimer, Signal
+from PySide6.QtCore import QEvent, QObject, QSettings, QSize, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QIcon, QPixmap
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -41,7 +41,7 @@ from PySide6.QtWidgets import (
 
 from studio.core.files.errors import StudioError
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.setup.pose_map import wrinkle_map_for_pose
+from studio.core.setup.pose_map import map_on_link, wrinkle_map_for_pose
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.brush import Brush, Mirror, UvMirror
 from studio.core.wrinkles.flat_reveal import reveal_maps, t1_reveal
@@ -53,6 +53,7 @@ from studio.widgets.paint import edits as mask_edits
 from studio.widgets.paint.link_editor import LinkEditor
 from studio.widgets.rebuild import clear_form
 from studio.widgets.timeline.pose_panel import pose_label
+from studio.widgets.viewport.techniques import show_technique_1
 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga *.webp)"
 MIRROR_MODES = {
@@ -171,7 +172,7 @@ class AreaRow(QWidget):
         self.colour.setToolTip("Change the area's colour")
         self.colour.setAutoRaise(True)
         self.name = QLabel(area.name)
-        self.name.setMinimumWidth(110)
+        self.name.setMinimumWidth(max(110, self.name.sizeHint().width()))  # never cut
         self.editor = QLineEdit(area.name)  # the name, renamed in place (F2, double-click)
         self.editor.hide()
         self.editor.returnPressed.connect(self._renamed)
@@ -258,6 +259,8 @@ class AreaRow(QWidget):
 
 
 class AreasPanel(QScrollArea):
+    said = Signal(str)  # a line for the status bar: what a gesture did beyond the obvious
+
     def __init__(self, document: Document, state: PaintState, parent: QWidget | None = None
                  ) -> None:
         super().__init__(parent)
@@ -272,10 +275,13 @@ class AreasPanel(QScrollArea):
         self.setFrameShape(QScrollArea.Shape.NoFrame)
         body = QWidget()
         layout = QVBoxLayout(body)
+        # the area list and what drives the selected area together at the top, in sight
+        # without scrolling (MetaHuman's and Substance's layer stacks keep their properties
+        # beside the list); the brush and whole-mask tools below
         layout.addWidget(self._build_layers())
+        layout.addWidget(self._build_links())
         layout.addWidget(self._build_brush())
         layout.addWidget(self._build_adjust())
-        layout.addWidget(self._build_links())
         layout.addWidget(self._build_images())
         layout.addStretch(1)
         self.setWidget(body)
@@ -310,7 +316,11 @@ class AreasPanel(QScrollArea):
         box = QGroupBox("Influence areas")
         v = QVBoxLayout(box)
         self.list = QListWidget()
-        self.list.setMinimumHeight(200)
+        # with Add pose… below it, above the fold at 720 pixels
+        self.list.setMinimumHeight(150)
+        # rows as wide as the list (their sliders give way), never a sideways scroll bar
+        # over the activation values
+        self.list.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.list.currentRowChanged.connect(self._row_selected)
         self.list.itemDoubleClicked.connect(lambda _: self.rename())
         self.list.installEventFilter(self)  # F2 renames, as in the Wrinkle vectors list
@@ -429,18 +439,11 @@ class AreasPanel(QScrollArea):
         pose of the rig."""
         box = QGroupBox("Selected area: wrinkled map, driven by")
         v = QVBoxLayout(box)
-        note = QLabel("Moving toward a pose raises this area's activation by gain × "
-                      "curve(weight); the curve shapes how (linear unless chosen).")
-        note.setWordWrap(True)
-        v.addWidget(note)
         self.flat_note = QLabel()
         self.flat_note.setWordWrap(True)
         self.flat_note.setStyleSheet(WARNING_STYLE)
         self.flat_note.hide()
         v.addWidget(self.flat_note)
-        self.links_form = QFormLayout()
-        self.links_form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapAllRows)
-        v.addLayout(self.links_form)
         self.add_pose = QComboBox()
         self.add_pose.setEditable(True)
         self.add_pose.setInsertPolicy(QComboBox.InsertPolicy.NoInsert)
@@ -451,7 +454,18 @@ class AreasPanel(QScrollArea):
         completer.setFilterMode(Qt.MatchFlag.MatchContains)
         completer.setCompletionMode(QCompleter.CompletionMode.PopupCompletion)
         self.add_pose.activated.connect(self._pose_added)
-        v.addWidget(self.add_pose)
+        v.addWidget(self.add_pose)  # first: in sight under the list, however many links
+        self.map_said = QLabel()  # which map a link made the area reveal, and why
+        self.map_said.setWordWrap(True)
+        self.map_said.hide()
+        v.addWidget(self.map_said)
+        self.links_form = QFormLayout()
+        self.links_form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapAllRows)
+        v.addLayout(self.links_form)
+        note = QLabel("Moving toward a pose raises this area's activation by gain × "
+                      "curve(weight); the curve shapes how (linear unless chosen).")
+        note.setWordWrap(True)
+        v.addWidget(note)
         auto = FlowLayout()
         auto.addWidget(QLabel("From pose"))
         self.auto_pose = QComboBox()
@@ -498,7 +512,7 @@ class AreasPanel(QScrollArea):
         for i, _area in enumerate(areas):
             item = QListWidgetItem()
             row = AreaRow(self, i)
-            item.setSizeHint(row.sizeHint())
+            item.setSizeHint(QSize(0, row.sizeHint().height()))  # the list's width
             self.list.addItem(item)
             self.list.setItemWidget(item, row)
             self.rows.append(row)
@@ -607,8 +621,10 @@ class AreasPanel(QScrollArea):
         self.map_combo.activated.connect(lambda i: self._map_chosen(index, i))
         self.links_form.addRow("Wrinkled map", self.map_combo)
         if not linked:
-            self.links_form.addRow(QLabel("Driven by no pose yet: add one below, or move the "
-                                          "area's own activation slider."))
+            hint = QLabel("Driven by no pose yet: add one above, or move the area's own "
+                          "activation slider.")
+            hint.setWordWrap(True)
+            self.links_form.addRow(hint)
         for pose in linked:
             editor = LinkEditor(self.doc, pose, area.name)
             self.links_form.addRow(pose_label(pose), editor)
@@ -621,14 +637,37 @@ class AreasPanel(QScrollArea):
         self.add_pose.blockSignals(False)
 
     def _pose_added(self, row: int) -> None:
+        """Link the pose (gain 1) and, for an area whose map nobody chose, reveal the pose's
+        own map in the same undo step — a frown's area shows the frown's lines, not the first
+        map's forehead furrows — and show technique 1, where areas show; say both."""
         area = self.active_area()
         pose = self.add_pose.itemText(row)
-        if area is not None and pose in self.doc.project.pose_names:
-            mask_edits.set_link(self.doc, pose, area.name, 1.0)
-            editor = self.link_editors.get(pose)
-            if editor is not None:  # on to its gain, as a person goes on to set it
-                editor.spin.setFocus()
-                editor.spin.selectAll()
+        if area is None or pose not in self.doc.project.pose_names:
+            return
+        index = self.state.active
+        project = self.doc.project
+        chosen = map_on_link(project, area, pose)
+        stack = self.doc.undo_stack
+        stack.beginMacro(f"Link {pose} → {area.name}")
+        mask_edits.set_link(self.doc, pose, area.name, 1.0)
+        if chosen is not None:
+            mask_edits.set_area_map(self.doc, index, chosen)
+        stack.endMacro()
+        said = []
+        if chosen is not None:
+            said.append(f"“{area.name}” reveals “{chosen}”, the map of {pose} (choose "
+                        "another under Wrinkled map).")
+        self.map_said.setText(said[0] if said else "")
+        self.map_said.setVisible(bool(said))
+        switched = show_technique_1(self.doc)
+        if switched:
+            said.append(switched)
+        if said:
+            self.said.emit(" ".join(said))
+        editor = self.link_editors.get(pose)
+        if editor is not None:  # on to its gain, as a person goes on to set it
+            editor.spin.setFocus()
+            editor.spin.selectAll()
 
     def _show_curves(self) -> None:
         for editor in self.link_editors.values():
@@ -642,6 +681,7 @@ class AreasPanel(QScrollArea):
         self.list.setCurrentRow(index)
 
     def _row_selected(self, row: int) -> None:
+        self.map_said.hide()  # (it spoke of the area that was selected)
         self.state.set_active(row)
         self._show_links()
         self._show_flat()

@@ -10,6 +10,9 @@ from studio.widgets.app_settings import settings
 from studio.widgets.paint.areas_panel import AreasPanel, PaintState
 from studio.widgets.paint.paint_tool import FacePaintTool
 from studio.widgets.paint.uv_canvas import UvCanvas
+from studio.widgets.viewport.techniques import show_technique_1
+
+SAY_MS = 8000  # a status line a person has time to read
 
 
 class MaskTools:
@@ -26,6 +29,8 @@ class MaskTools:
         self.canvas = UvCanvas(doc, self.state)
         self.canvas.previewing.connect(
             lambda area: window.viewport.set_mask_preview(None if area < 0 else area))
+        self.canvas.previewing.connect(self._painted)
+        self.panel.said.connect(self.say)
         self.tool = FacePaintTool(doc, self.state,
                                   lambda text: window.statusBar().showMessage(text, 4000))
         # a painting workspace on the left: the canvas above, its layers and brush below
@@ -60,18 +65,29 @@ class MaskTools:
         self.action.setChecked(False)
         del blocker
 
+    def say(self, text: str) -> None:
+        self.window.statusBar().showMessage(text, SAY_MS)
+
+    def _painted(self, area: int) -> None:
+        """A stroke on the UV canvas began: the face goes on showing technique 1 after it (the
+        stroke's own preview shows it only while the pen is down)."""
+        if area >= 0:
+            switched = show_technique_1(self.window.doc)
+            if switched:
+                self.say(switched)
+
     def set_painting(self, on: bool) -> None:
         """The face-paint tool in the viewport; painting shows technique 1, whose masks these
         are (a view setting, not an edit)."""
         viewport = self.window.viewport
         if on:
             viewport.set_tool(self.tool)
-            if self.window.doc.view.technique != "t1" and not self.window.doc.view.split:
-                self.window.doc.set_view(technique="t1")
+            switched = show_technique_1(self.window.doc)
             self.window.docks["Areas"].show()
             self.window.docks["Areas"].raise_()
-            self.window.statusBar().showMessage(
-                "Paint: left-drag on the face paints the selected area; B leaves the tool", 5000)
+            self.say(" ".join(filter(None, (
+                "Paint: left-drag on the face paints the selected area; B leaves the tool.",
+                switched))))
         elif viewport.tool is self.tool:
             viewport.set_tool(None)
 

@@ -329,6 +329,7 @@ class UvCanvas(QWidget):
         self.hint = QLabel("")
         self.hint.setStyleSheet("color: #9a9a9a;")
         self.hint.setSizePolicy(QSizePolicy.Policy.Ignored, QSizePolicy.Policy.Preferred)
+        self.hint.setWordWrap(True)  # a narrow canvas wraps its hint, never cuts it
         for combo in (self.backdrop, self.tile):  # the canvas lives in a narrow column
             combo.setSizeAdjustPolicy(
                 QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)

@@ -58,6 +58,7 @@ CONTROLS_WIDTH = 250  # pixels: the transport and key controls left of the track
 ROW_PIXELS = 32  # a row's height unless the user chose one: 0.05 of weight is over a pixel
 ROW_PIXELS_RANGE = (18, 120)  # the heights a user may give the rows
 ROW_HEIGHT_KEY = "timeline/row_pixels"  # where the chosen height is remembered
+SAY_MS = 10000  # "Keyed …" stays long enough to read, whatever else redraws meanwhile
 ROWS_AT_LEAST = 2  # rows kept on screen however short the dock; the rest scroll
 NAMES_PIXELS = 130  # the names' column (the current row's name has a pointer before it)
 RULER_PIXELS = 36  # the time ruler's height: its frame numbers, and the playhead's
@@ -909,7 +910,7 @@ class TimelinePanel(QWidget):
         """A line in the main window's status bar (nothing when the panel stands alone)."""
         bar = getattr(self.window(), "statusBar", None)
         if callable(bar):
-            bar().showMessage(text, 6000)
+            bar().showMessage(text, SAY_MS)
 
     def _interpolation_chosen(self, index: int) -> None:
         if self.selection and index >= 0:

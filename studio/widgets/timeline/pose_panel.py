@@ -16,7 +16,7 @@ from PySide6.QtWidgets import (
 )
 
 from studio.widgets.document import Document
-from studio.widgets.slider_row import SliderRow
+from studio.widgets.slider_row import SliderRow, fit_labels
 
 
 class ActivationBar(QWidget):
@@ -84,9 +84,14 @@ class PosePanel(QScrollArea):
         self.pose_rows = {}
         for pose in self.doc.project.poses:
             row = SliderRow(pose_label(pose.name))
+            row.compact()  # a rig's long names whole and a slider of 100 pixels in the column
             row.edited.connect(lambda v, g, n=pose.name: self._pose_edited(n, v, g))
+            # the pose K keys is the one last taken hold of, even by a drag that ended where
+            # it began: keying another pose, unseen, was the surprise
+            row.touched.connect(lambda n=pose.name: self.poseEdited.emit(n))
             pose_layout.addWidget(row)
             self.pose_rows[pose.name] = row
+        fit_labels(list(self.pose_rows.values()))
         reset = QPushButton("Back to neutral")
         reset.setToolTip("Set every key-pose weight to 0")
         reset.clicked.connect(self._reset_pose)

@@ -6,13 +6,10 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QGroupBox, QVBoxLayout, QWidget
 
-from studio.core.wrinkles.techniques import TECHNIQUE_LIST
 from studio.widgets.document import Document
-from studio.widgets.slider_row import SliderRow
+from studio.widgets.slider_row import SliderRow, fit_labels
+from studio.widgets.viewport.techniques import TECHNIQUE_CHOICES, choose_technique
 
-# every technique of the registry but flat shading (a benchmark baseline), then the split view
-TECHNIQUE_CHOICES = [*((t.label, t.key) for t in TECHNIQUE_LIST if t.key != "flat"),
-                     ("Split: t1 | t2 | automatic", "split")]
 DEBUG_VIEWS = [("Shaded", "shaded"), ("Heat: weight", "heat"), ("Heat: what shows", "heat-shows"),
                ("Normals", "normals"), ("UV checker", "uv")]
 COMBO_CHARACTERS = 16  # what a closed list shows of its choice before eliding it
@@ -28,6 +25,9 @@ class ShadingPanel(QWidget):
         layout = QVBoxLayout(self)
         view_box = QGroupBox("Display")
         form = QFormLayout(view_box)
+        # each choice under its name, the column's whole width: "MikkTSpace (Blender,
+        # Substance, engines)" reads in full in a 360-pixel column
+        form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapAllRows)
         self.technique = QComboBox()
         for text, key in TECHNIQUE_CHOICES:
             self.technique.addItem(text, key)
@@ -61,10 +61,11 @@ class ShadingPanel(QWidget):
         form.addRow(self.relief_depth)
         self.tangent_frame = QComboBox()
         self.tangent_frame.setObjectName("tangent_frame")
-        self.tangent_frame.addItem("MikkTSpace (Blender, Substance, engines)", "mikktspace")
+        self.tangent_frame.addItem("MikkTSpace (Blender, engines)", "mikktspace")
         self.tangent_frame.addItem("Per-triangle sums (thesis)", "thesis")
         self.tangent_frame.setToolTip(
-            "The tangent frame the normal maps were baked in; baking and the glTF export use "
+            "The tangent frame the normal maps were baked in (MikkTSpace: Blender, Substance, "
+            "game engines); baking and the glTF export use "
             "it too. Maps from today's bakers need MikkTSpace")
         self.tangent_frame.activated.connect(
             lambda: document.set_view(tangent_frame=self.tangent_frame.currentData()))
@@ -90,6 +91,7 @@ class ShadingPanel(QWidget):
         t2_form.addRow(self.cone)
         layout.addWidget(t2_box)
         layout.addStretch(1)
+        fit_labels(self.findChildren(SliderRow))
         for combo in self.findChildren(QComboBox):  # a narrow column; the lists show in full
             combo.setSizeAdjustPolicy(
                 QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
@@ -100,11 +102,7 @@ class ShadingPanel(QWidget):
         self._show_values()
 
     def _technique_chosen(self) -> None:
-        key = self.technique.currentData()
-        if key == "split":
-            self.doc.set_view(split=True)
-        else:
-            self.doc.set_view(split=False, technique=key)
+        choose_technique(self.doc, self.technique.currentData())
 
     def _fit_relief_range(self) -> None:
         """The depth slider spans 0 to 5% of the face's size, whatever its units."""

@@ -39,9 +39,12 @@ from studio.render.scene import ProjectScene
 from studio.render.settings import render_settings
 from studio.widgets.app_settings import settings
 from studio.widgets.document import Document
+from studio.widgets.viewport.technique_switch import TechniqueSwitch
 
 ANTI_ALIASING = (0, 2, 4, 8)  # samples per pixel offered (View ▸ Anti-Aliasing); 0: off
 DEFAULT_SAMPLES = 4
+LABEL_STYLE = ("color: #d8d8d8; background: rgba(20,20,24,150); padding: 3px 7px;"
+               "border-radius: 3px;")
 SETTLE_MS = 200  # still this long after the last movement: draw full size again
 REPORT_MS = 500  # while moving, frame times are reported (frameRendered) this often
 # the time between frames besides the drawing (Qt composing the window) is the least of the
@@ -117,13 +120,23 @@ class Viewport(QOpenGLWidget):
         self.setMinimumSize(320, 240)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
         self.setMouseTracking(True)
-        self._labels = [self._make_label() for _ in SPLIT]
+        # the single view's label is a switch (a click offers the techniques, as Blender's
+        # viewport header does); the split view's panes are labelled, not switched
+        self.technique_switch = TechniqueSwitch(document, self)
+        self._labels = [self.technique_switch, *(self._make_label() for _ in SPLIT[1:])]
+        # what the picture is while it is drawn reduced, said where the eye is (the status
+        # bar keeps the messages a person must read: what was keyed, selected, exported)
+        self.motion_note = self._make_label()
+        self.motion_note.hide()
+        self.tool_note = self._make_label()  # what the last gesture of a tool did (``say``)
+        self.tool_note.hide()
+        self._tool_note_timer = QTimer(self, singleShot=True)
+        self._tool_note_timer.timeout.connect(self.tool_note.hide)
         self._connect()
 
     def _make_label(self) -> QLabel:
         label = QLabel(self)
-        label.setStyleSheet("color: #d8d8d8; background: rgba(20,20,24,150); padding: 3px 7px;"
-                            "border-radius: 3px;")
+        label.setStyleSheet(LABEL_STYLE)
         label.setAttribute(Qt.WidgetAttribute.WA_TransparentForMouseEvents)
         return label
 
@@ -173,6 +186,17 @@ class Viewport(QOpenGLWidget):
         bar = getattr(self.window(), "statusBar", None)
         if bar is not None:
             QTimer.singleShot(0, lambda: bar().showMessage(text, ms))
+
+    def say(self, text: str, ms: int) -> None:
+        """Words on the picture's bottom edge for ``ms``: what a tool's gesture did, where the
+        person is looking (a selection's count, say)."""
+        note = self.tool_note
+        note.setText(text)
+        note.adjustSize()
+        note.move(8, self.height() - note.height() - 8)
+        note.show()
+        note.raise_()
+        self._tool_note_timer.start(ms)
 
     def _apply_pending(self) -> None:
         pending = self._pending
@@ -311,8 +335,10 @@ class Viewport(QOpenGLWidget):
         return super().grabFramebuffer()
 
     def _say_reduced(self, scale) -> None:
-        """Tell the user in the status bar while frames are drawn reduced, and stop saying so
-        once they are not."""
+        """Say on the picture, in its bottom corner, while frames are drawn reduced, and stop
+        saying so with the first full-size frame. Not in the status bar: a pose change nobody's
+        hand made (K keying, an undo) also draws reduced for a moment, and its words there
+        replaced the message a person was reading ("Keyed …") and outlived the movement."""
         text = None
         if scale is not None and scale != SCALES[0]:
             text = f"drawing at {scale} resolution while you move (software OpenGL)"
@@ -320,13 +346,13 @@ class Viewport(QOpenGLWidget):
             text = "drawing without anti-aliasing while you move (software OpenGL)"
         if text == self._said:
             return
-        bar = getattr(self.window(), "statusBar", None)
-        if bar is not None:
-            if text is not None:
-                bar().showMessage(text)
-            elif bar().currentMessage() == self._said:
-                bar().clearMessage()
         self._said = text
+        note = self.motion_note
+        note.setVisible(text is not None)
+        if text is not None:
+            note.setText(text)
+            note.adjustSize()
+            note.move(self.width() - note.width() - 8, self.height() - note.height() - 8)
 
     def set_mask_preview(self, area: int | None) -> None:
         """While an area is painted on the UV canvas, the face shows that area alone at full
@@ -420,12 +446,13 @@ class Viewport(QOpenGLWidget):
                 label.show()
         else:
             first, *rest = self._labels
-            first.setText(TECHNIQUES[view.technique].short)
+            first.setText(f"{TECHNIQUES[view.technique].short} ▾")
             first.adjustSize()
             first.move(8, 8)
             first.show()
             for label in rest:
                 label.hide()
+        self.technique_switch.set_switching(not view.split)
 
     # --- navigation ----------------------------------------------------------------------------
     def _navigation_for(self, event: QMouseEvent) -> str | None:

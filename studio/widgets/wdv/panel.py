@@ -38,6 +38,7 @@ from studio.widgets.wdv import edits
 from studio.widgets.wdv.comb_tool import CombControls, install_comb
 from studio.widgets.wdv.tools import WdvTools
 
+SAY_MS = 8000  # a status line a person has time to read
 FLAT_CHECK_MS = 300  # the flat-map check waits for the window to show and edits to settle
 
 
@@ -173,6 +174,8 @@ class WdvPanel(QScrollArea):
         self.tool_button.setToolTip("Left-drag in the viewport selects; Alt+drag still orbits")
         self.tool_button.toggled.connect(self._tool_toggled)
         s_layout.addWidget(self.tool_button)
+        self.selection_label = QLabel()  # under the tool, not at the box's (cut) bottom edge
+        s_layout.addWidget(self.selection_label)
         modes = FlowLayout()
         self.mode_group = QButtonGroup(self)
         self.mode_buttons: dict[str, QToolButton] = {}
@@ -220,8 +223,6 @@ class WdvPanel(QScrollArea):
             self.op_buttons[name] = b
             grid.addWidget(b)
         s_layout.addLayout(grid)
-        self.selection_label = QLabel()
-        s_layout.addWidget(self.selection_label)
         return select
 
     def _build_directions_box(self) -> QGroupBox:
@@ -560,6 +561,7 @@ def install_wdv_tools(window) -> WdvTools:
 
     def toggled(on: bool) -> None:
         window.viewport.set_tool(tools.tool if on else None)
+        tools.set_selecting(on)
         panel.tool_active(on)
         if on:  # the tool's options and the vectors it edits
             dock.show()
@@ -570,8 +572,9 @@ def install_wdv_tools(window) -> WdvTools:
     window.viewport.overlays.append(tools.overlay)
     tools.select_action = action
     tools.panel = panel
-    tools.timing.connect(lambda what, ms: window.statusBar().showMessage(
-        f"{what}: {ms:.1f} ms", 2000))
+    # what a gesture selected, where the eye is (the picture's corner) and in the status bar
+    tools.said.connect(lambda text: (window.statusBar().showMessage(text, SAY_MS),
+                                     window.viewport.say(text, SAY_MS)))
     install_comb(window, tools, panel.comb_controls)
     window.wdv_tools = tools
     return tools

@@ -28,7 +28,8 @@ OTHERS_OPACITY = 0.25  # the other areas' vectors, when all are asked for
 
 class WdvTools(QObject):
     currentAreaChanged = Signal()
-    timing = Signal(str, float)  # what, milliseconds: for the status bar and measurements
+    timing = Signal(str, float)  # what, milliseconds: for measurements
+    said = Signal(str)  # what a gesture did, in words (the status bar and the viewport say it)
 
     def __init__(self, doc: Document, viewport) -> None:
         super().__init__(viewport)
@@ -43,6 +44,9 @@ class WdvTools(QObject):
         # (faint) only when asked; a face with a dozen areas is otherwise all needles
         self.panel_open = False
         self.all_areas = False
+        # the selected vertices are drawn only while selecting (Blender shows them in edit mode
+        # only): afterwards the dots would cover the wrinkles the selection was made for
+        self.selecting = False
         self._posed: np.ndarray | None = None
         self._normals: np.ndarray | None = None
         self._edges: np.ndarray | None = None
@@ -104,10 +108,19 @@ class WdvTools(QObject):
         self._selection_changed()  # the current area's colour may have changed
         self.currentAreaChanged.emit()
 
+    def say(self, text: str) -> None:
+        self.said.emit(text)
+
+    def set_selecting(self, on: bool) -> None:
+        """The select tool took (or left) the viewport: show (or hide) the selection's dots."""
+        self.selecting = on
+        self._selection_changed()
+
     def _selection_changed(self) -> None:
         # selected vertices in the selection's own colour (Blender's orange), never an area's:
         # the vectors are drawn in the area's, and the two must be told apart
-        self.overlay.set_selection(np.flatnonzero(self.doc.selection), SELECTION)
+        shown = np.flatnonzero(self.doc.selection) if self.selecting else np.zeros(0, np.int64)
+        self.overlay.set_selection(shown, SELECTION)
         self.viewport.update()
 
     def _update_vectors(self) -> None:
