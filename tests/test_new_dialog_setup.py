@@ -64,7 +64,7 @@ def pick_axes(qtbot, dialog: NewProjectDialog, up: str, front: str) -> None:
     qtbot.keyClicks(dialog.front, front)
 
 
-def test_the_file_filter_offers_vrm_and_fbx(qtbot, monkeypatch, dialogs) -> None:
+def test_the_file_filter_offers_vrm_fbx_and_usd(qtbot, monkeypatch, dialogs) -> None:
     filters: list[str] = []
 
     def ask(_parent, _caption, _start, file_filter=""):
@@ -75,7 +75,7 @@ def test_the_file_filter_offers_vrm_and_fbx(qtbot, monkeypatch, dialogs) -> None
     dialog = open_dialog(qtbot)
     qtbot.mouseClick(button(dialog, "Browse…"), Qt.MouseButton.LeftButton)
     meshes = filters[0].split(";;")[0]
-    for suffix in ("*.vrm", "*.fbx", "*.glb", "*.obj"):
+    for suffix in ("*.usd", "*.usda", "*.usdc", "*.usdz", "*.vrm", "*.fbx", "*.glb", "*.obj"):
         assert suffix in meshes, meshes
     assert dialogs == []
 

@@ -11,12 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 from PySide6.QtCore import Qt, QTimer
-from PySide6.QtWidgets import QApplication, QFileDialog
+from PySide6.QtWidgets import QApplication
 
 from tests.gui_helpers import drag_slider, viewport_image
 from tests.test_files_gui import click_menu_path
 from tests.test_new_dialog_setup import (
-    button,
     from_the_command_line,
     open_dialog,
     set_auto,
@@ -30,22 +29,6 @@ pytest.importorskip("pxr")
 @pytest.fixture(scope="module")
 def usdz(tmp_path_factory) -> Path:
     return write_usd_head(tmp_path_factory.mktemp("usd_gui"))[".usdz"]
-
-
-def test_the_file_filter_offers_usd(qtbot, monkeypatch, dialogs) -> None:
-    filters: list[str] = []
-
-    def ask(_parent, _caption, _start, file_filter=""):
-        filters.append(file_filter)
-        return "", ""
-
-    monkeypatch.setattr(QFileDialog, "getOpenFileName", staticmethod(ask))
-    dialog = open_dialog(qtbot)
-    qtbot.mouseClick(button(dialog, "Browse…"), Qt.MouseButton.LeftButton)
-    meshes = filters[0].split(";;")[0]
-    for suffix in ("*.usd", "*.usda", "*.usdc", "*.usdz", "*.fbx", "*.vrm", "*.glb", "*.obj"):
-        assert suffix in meshes, meshes
-    assert dialogs == []
 
 
 def test_a_usdz_head_through_new_from_files_is_set_up_and_drawn_with_its_texture(
