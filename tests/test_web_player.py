@@ -26,6 +26,7 @@ from studio.core.mesh.geometry import DeformCache
 from studio.core.project.sample import make_test_face
 from studio.core.project.web_export import web_page
 from studio.core.project.writer import save_project
+from tests.visibility import least
 
 SIZE = 800  # the issue's window: 800 × 800
 POSE = "brow_raise_left"  # the test face's left-brow raise (the sample's browInnerUp_L)
@@ -179,8 +180,8 @@ def test_the_sample_head_s_page_shows_both_techniques_at_browInnerUp_L(tmp_path)
                   tmp_path / f"{technique}.png")
         shots[technique] = pixels(tmp_path / f"{technique}.png")
     assert face_share(shots["none"]) >= 0.10
-    for technique in ("t1", "t2"):
-        assert changed(shots[technique], shots["none"]).mean() >= 0.01
+    for technique in ("t1", "t2"):  # (0.98 % with issue 45's soft furrows; 1.5 % as cliffs)
+        assert changed(shots[technique], shots["none"]).mean() >= least("browInnerUp_L")
 
 
 def test_web_over_a_file_is_refused_in_one_line_before_any_work(tmp_path, capsys,

@@ -191,7 +191,9 @@ def test_getting_started_shows_at_the_first_start_only_and_help_brings_it_back(q
     from studio.widgets.getting_started import SEEN_KEY
     from studio.widgets.main_window import MainWindow, settings
 
-    settings().remove(SEEN_KEY)  # a first start
+    store = settings()  # a first start: no layout saved by an earlier window either (a
+    for key in (SEEN_KEY, "window/state", "window/geometry"):  # layout restores its docks)
+        store.remove(key)
     windows = []
     for _ in range(2):
         w = MainWindow(copy_of(sample))
