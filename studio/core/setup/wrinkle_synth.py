@@ -21,10 +21,16 @@ along the furrow. Steps:
    where the region is compressed most. A valley profile of the phase gives few, long, smooth
    furrows that follow the direction field — parallel lines on a forehead, a fan at an eye's
    corner, one fold along a narrow band — never the crumples and rings of noise-based
-   patterns. No randomness: the same input gives the same map.
-4. The **height** is ``−depth × max over poses (amount × valley)``, in texels, and becomes a
-   tangent-space normal map (``normalmap.height_to_normal``), laid over the neutral map's
-   detail so pores stay where the furrows show.
+   patterns. Along each furrow, noise on the surface (``surface_noise``, a fixed seed: the
+   same input gives the same map) varies its depth and lets its phase wander a little, so no
+   two lines are alike and none is ruled.
+4. The **depth** grows as the square root of the compression's excess over a threshold
+   (``grown_depth``); a furrow's cross-section is a soft valley with the skin bunched slightly
+   between furrows (``furrow_profile``). The **height** is ``−depth × (the deepest furrow +
+   the most bunched skin over poses)``, in texels; it becomes a tangent-space normal map whose
+   slopes ease toward ``MAX_TILT`` and never past it (skin's walls stay under 35°), added to
+   the neutral map by reoriented normal mapping (``over_base``): where a pose has no furrow
+   the map is the neutral, exactly, and a head's own pores stay inside its furrows.
 """
 
 from __future__ import annotations
