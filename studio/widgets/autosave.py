@@ -6,17 +6,8 @@ edits is written once, but never put off past ``MAX_DELAY_MS`` after the first u
 that a person editing without pause still loses at most about ten seconds to a kill. A timer
 every few minutes (QSettings ``autosave/interval_minutes``, default 3; 0 turns both off) catches
 anything else. The document goes with :func:`save_project` (atomic) to a recovery file in the
-user's data folder (``QStandardPaths.AppDataLocation/recovery``)::
-
-    <session>.wrinkle   the document as it was at the last autosave
-    <session>.json      what it is: project name, original path, time (shown in the offer)
-    <session>.lock      locked (flock) for as long as the window lives; touched every few
-                        seconds, so its time says when a window that died was last alive
-
-Why the lock: a recovery file whose lock nobody holds was left by a window that did not close
-normally (the kernel drops a dead process's locks), so it is offered at the next start; a file
-still locked belongs to a running window (this process or another) and is left alone. Where
-there are no advisory locks (Windows) the pid in the ``.json`` decides instead.
+user's data folder (``QStandardPaths.AppDataLocation/recovery``): what it is made of, its lock and
+which ones are orphaned is ``studio.core.project.recovery``'s (Qt-free) business.
 
 A clean close of the window, or saving the document, deletes the recovery file. At start-up the
 window offers each orphaned one (a question box: when the studio stopped, how recent the work
@@ -38,13 +29,10 @@ is skipped (the next one catches up).
 from __future__ import annotations
 
 import contextlib
-import copy
 import itertools
-import json
 import os
 import threading
 import time
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
@@ -54,15 +42,17 @@ from PySide6.QtCore import QEvent, QObject, Qt, QTimer, Signal
 from PySide6.QtWidgets import QMessageBox
 
 from studio.core.files.errors import StudioError
-from studio.core.project import reader, writer
+from studio.core.project import reader, recovery
 from studio.core.project.model import Project
+from studio.core.project.recovery import (
+    Recovery,
+    RecoveryFile,
+    recovery_meta,
+    snapshot_project,
+    write_recovery,
+)
 from studio.widgets.app_settings import data_folder, settings
 from studio.widgets.crash_log import current_crash_log
-
-try:  # advisory locks: POSIX only
-    import fcntl
-except ImportError:  # pragma: no cover - Windows
-    fcntl = None  # type: ignore[assignment]
 
 if TYPE_CHECKING:
     from PySide6.QtWidgets import QStatusBar
@@ -89,9 +79,6 @@ DEFAULT_MINUTES = 3.0
 DEBOUNCE_MS = 2000  # a burst of edits is written once, this long after its last step
 MAX_DELAY_MS = 8000  # ... but never later than this after the first unsaved step
 HEARTBEAT_MS = 5000  # how often a live window touches its lock file
-# The most memory the last snapshot's copies may keep between autosaves (the ICT head: 141 MB):
-# a project past it is copied whole at each autosave, as before, rather than held twice.
-KEEP_BYTES = 512 << 20
 _sessions = itertools.count(1)
 _offering = False  # one offer at a time (a recovered second window must not ask again)
 
@@ -101,147 +88,9 @@ def recovery_dir() -> Path:
     return data_folder() / "recovery"
 
 
-@dataclass
-class Recovery:
-    """One recovery file left by a window that did not close normally."""
-
-    project_file: Path
-    name: str
-    original: str | None
-    saved_at: float
-    stopped_at: float | None = None  # the window's last sign of life (its lock's time)
-    crash_log: Path | None = None  # what faulthandler wrote when it died, if anything
-
-    def describe(self) -> str:
-        when = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(self.saved_at))
-        origin = self.original or "never saved"
-        return f"“{self.name}”\nOriginal file: {origin}\nAutosaved: {when}"
-
-    def story(self) -> str:
-        """What happened, in a person's words: when the studio stopped and how recent the
-        recovered work is, and where the crash log is when there is one."""
-        stopped = max(self.stopped_at or 0.0, self.saved_at)
-        day = time.strftime("%Y-%m-%d", time.localtime(stopped))
-        today = time.strftime("%Y-%m-%d")
-        at = time.strftime("%H:%M" if day == today else "%Y-%m-%d %H:%M", time.localtime(stopped))
-        upto = time.strftime("%H:%M:%S", time.localtime(self.saved_at))
-        text = (f"The studio stopped unexpectedly at {at}; your work up to {upto} is "
-                "recovered.")
-        if self.crash_log is not None:
-            text += f"\nCrash log: {self.crash_log}"
-        return text
-
-    def remove(self) -> None:
-        for suffix in (".wrinkle", ".json", ".lock"):  # (the crash log stays, for a report)
-            with contextlib.suppress(OSError):
-                self.project_file.with_suffix(suffix).unlink()
-
-
-def _owner_alive(lock: Path, meta: dict[str, Any]) -> bool:
-    """Whether a running window still owns this recovery file."""
-    if fcntl is not None:
-        try:
-            fd = os.open(lock, os.O_RDWR)
-        except FileNotFoundError:
-            return False
-        except OSError:
-            return True  # cannot tell: leave it alone
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            return True
-        finally:
-            os.close(fd)  # closing drops the probe's own lock
-        return False
-    pid = meta.get("pid")
-    if not isinstance(pid, int) or pid == os.getpid():
-        return False
-    try:
-        os.kill(pid, 0)
-    except OSError:
-        return False
-    return True
-
-
 def find_recoveries(folder: Path | None = None) -> list[Recovery]:
-    """Orphaned recovery files, newest first; stray lock files of dead windows are removed."""
-    folder = folder or recovery_dir()
-    if not folder.is_dir():
-        return []
-    found: list[Recovery] = []
-    for project_file in folder.glob("*.wrinkle"):
-        meta_file = project_file.with_suffix(".json")
-        try:
-            meta = json.loads(meta_file.read_text(encoding="utf-8"))
-            if not isinstance(meta, dict):
-                meta = {}
-        except (OSError, ValueError):
-            meta = {}
-        if _owner_alive(project_file.with_suffix(".lock"), meta):
-            continue
-        try:
-            mtime = project_file.stat().st_mtime
-        except OSError:
-            continue
-        name = meta.get("name") if isinstance(meta.get("name"), str) else project_file.stem
-        original = meta.get("original") if isinstance(meta.get("original"), str) else None
-        saved_at = meta.get("saved_at")
-        saved_at = float(saved_at) if isinstance(saved_at, int | float) else mtime
-        found.append(Recovery(project_file, name, original, saved_at,
-                              _mtime(project_file.with_suffix(".lock")),
-                              _crash_log(meta.get("crash_log"))))
-    for lock in folder.glob("*.lock"):  # a window that died before its first autosave
-        if not lock.with_suffix(".wrinkle").exists() and not _owner_alive(lock, {}):
-            with contextlib.suppress(OSError):
-                lock.unlink()
-    found.sort(key=lambda r: r.saved_at, reverse=True)
-    return found
-
-
-def _mtime(path: Path) -> float | None:
-    try:
-        return path.stat().st_mtime
-    except OSError:
-        return None
-
-
-def _crash_log(value: object) -> Path | None:
-    """The crash log a dead window's process wrote, if it wrote anything."""
-    if not isinstance(value, str):
-        return None
-    path = Path(value)
-    try:
-        return path if path.is_file() and path.stat().st_size > 0 else None
-    except OSError:
-        return None
-
-
-def snapshot_project(project: Project,
-                     kept: dict[int, tuple[np.ndarray, np.ndarray]] | None = None) -> Project:
-    """A copy of ``project`` that no later edit can reach, cheap enough for the GUI thread.
-
-    Every writable array is copied (about 50 ms for the ICT head's 141 MB, against a second or
-    more of CPU to write it): which arrays an edit writes in place is up to each command, so
-    copying them all is the one rule that stays true as commands are added. Arrays that cannot
-    change are shared: a loaded project's images are read-only views of the file's bytes.
-    ``kept`` maps ``id(array)`` to ``(array, copy)`` from an earlier snapshot, for arrays known
-    not to have changed since (see :class:`SnapshotCopies`); it is refreshed with this one's.
-    """
-    arrays = list(_arrays(project, set()))
-    memo: dict[int, object] = {}
-    for a in arrays:
-        if _immutable(a):
-            memo[id(a)] = a
-        elif kept is not None and id(a) in kept and kept[id(a)][0] is a:
-            memo[id(a)] = kept[id(a)][1]
-    snapshot = copy.deepcopy(project, memo)
-    if kept is not None:
-        kept.clear()
-        copies = {id(a): (a, memo[id(a)]) for a in arrays
-                  if not _immutable(a) and id(a) in memo}
-        if sum(a.nbytes for a, _ in copies.values()) <= KEEP_BYTES:  # type: ignore[union-attr]
-            kept.update(copies)  # type: ignore[arg-type]
-    return snapshot
+    """Orphaned recovery files in ``folder`` (the user's recovery folder), newest first."""
+    return recovery.find_recoveries(folder or recovery_dir())
 
 
 class SnapshotCopies(QObject):
@@ -271,35 +120,6 @@ class SnapshotCopies(QObject):
             self.kept.clear()
 
 
-def _immutable(array: np.ndarray) -> bool:
-    """Whether nothing can write into ``array``: read-only, and so is all memory under it (a
-    read-only view of a writable array changes when the array does)."""
-    base: object = array
-    while isinstance(base, np.ndarray):
-        if base.flags.writeable:
-            return False
-        base = base.base
-    return base is None or isinstance(base, bytes)
-
-
-def _arrays(value: object, seen: set[int]) -> Iterator[np.ndarray]:
-    """The numpy arrays reachable from ``value`` (attributes, lists, tuples, dict values)."""
-    if id(value) in seen:
-        return
-    seen.add(id(value))
-    if isinstance(value, np.ndarray):
-        yield value
-    elif isinstance(value, dict):
-        for item in value.values():
-            yield from _arrays(item, seen)
-    elif isinstance(value, list | tuple):
-        for item in value:
-            yield from _arrays(item, seen)
-    elif hasattr(value, "__dict__"):
-        for item in vars(value).values():
-            yield from _arrays(item, seen)
-
-
 @dataclass
 class _Job:
     """One autosave: what to write and, once written, how it went."""
@@ -324,9 +144,8 @@ class Autosaver(QObject):
     def __init__(self, window: MainWindow) -> None:
         super().__init__(window)
         self.window = window
-        self.session = f"{os.getpid()}-{int(time.time())}-{next(_sessions)}"
-        self.folder = recovery_dir()
-        self._lock_fd: int | None = None
+        self.files = RecoveryFile(recovery_dir(),
+                                  f"{os.getpid()}-{int(time.time())}-{next(_sessions)}")
         self._saved_index: int | None = None  # undo index at the last autosave
         self.autosaves = 0
         self._closing = False
@@ -343,7 +162,7 @@ class Autosaver(QObject):
         self.soon.timeout.connect(self.autosave)
         self._first_unsaved: float | None = None  # when the oldest step not yet written came
         self.heartbeat = QTimer(self)
-        self.heartbeat.timeout.connect(self._beat)
+        self.heartbeat.timeout.connect(self.files.beat)
         self.heartbeat.start(HEARTBEAT_MS)
         self.enabled = True
         self.set_interval(_interval_minutes())
@@ -353,7 +172,7 @@ class Autosaver(QObject):
 
     @property
     def project_file(self) -> Path:
-        return self.folder / f"{self.session}.wrinkle"
+        return self.files.project_file
 
     @property
     def writing(self) -> bool:
@@ -378,12 +197,6 @@ class Autosaver(QObject):
         left = MAX_DELAY_MS - (now - self._first_unsaved) * 1000.0
         self.soon.start(max(0, round(min(DEBOUNCE_MS, left))))
 
-    def _beat(self) -> None:
-        """A sign of life on the lock file: its time is when a window that died was last alive."""
-        if self._lock_fd is not None:
-            with contextlib.suppress(OSError):
-                os.utime(self.project_file.with_suffix(".lock"))
-
     # --- autosaving ----------------------------------------------------------------------------
     def autosave(self) -> bool:
         """Start writing the document to the recovery file if it changed since the last
@@ -396,16 +209,12 @@ class Autosaver(QObject):
         if not doc.modified or self._saved_index == doc.undo_stack.index():
             return False
         try:
-            self.folder.mkdir(parents=True, exist_ok=True)
-            self._take_lock()
+            self.files.take_lock()
         except OSError as exc:  # never interrupt the user: say it and go on
             self._failed(exc)
             return False
         doc.store_view_state()
-        log = current_crash_log()
-        meta = {"name": doc.display_name, "original": str(doc.path) if doc.path else None,
-                "saved_at": time.time(), "pid": os.getpid(),
-                "crash_log": str(log) if log is not None else None}
+        meta = recovery_meta(doc.display_name, doc.path, current_crash_log())
         job = _Job(snapshot_project(doc.project, self._copies.kept), meta, self.project_file,
                    doc.undo_stack.index(), self._generation)
         self._job = job
@@ -418,8 +227,7 @@ class Autosaver(QObject):
     def _write(job: _Job, relay: _Relay) -> None:
         """The worker thread: write the snapshot atomically, then its description."""
         try:
-            writer.save_project(job.project, job.target, backup=False)
-            _write_json(job.target.with_suffix(".json"), job.meta)
+            write_recovery(job.project, job.target, job.meta)
         except Exception as exc:  # any failure must reach the GUI thread,
             job.error = exc  # or autosaving would stop for good without a word
         with contextlib.suppress(RuntimeError):  # the window is gone: nobody to tell
@@ -431,7 +239,7 @@ class Autosaver(QObject):
             return
         self._job = None
         if job.generation != self._generation:  # saved or closed meanwhile: nothing to keep
-            self._remove_files()
+            self.files.remove()
         elif job.error is not None:
             self._failed(job.error)
         else:
@@ -454,25 +262,12 @@ class Autosaver(QObject):
             self._thread = None
         return True
 
-    def _take_lock(self) -> None:
-        if self._lock_fd is not None:
-            return
-        fd = os.open(self.project_file.with_suffix(".lock"), os.O_RDWR | os.O_CREAT, 0o600)
-        if fcntl is not None:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        self._lock_fd = fd
-
     def discard(self) -> None:
         """Delete this window's recovery file (the document is saved, or closed on purpose);
         a write still running is void, and its file is deleted when it ends."""
         self._generation += 1
-        self._remove_files()
+        self.files.remove()
         self._saved_index = None
-
-    def _remove_files(self) -> None:
-        for suffix in (".wrinkle", ".json"):
-            with contextlib.suppress(OSError):
-                self.project_file.with_suffix(suffix).unlink()
 
     def shut_down(self) -> None:
         """A clean exit: stop, let a running write end, delete the recovery file and the lock.
@@ -485,11 +280,7 @@ class Autosaver(QObject):
         self.wait(60.0)
         self._job = None
         self.discard()
-        if self._lock_fd is not None:
-            with contextlib.suppress(OSError):
-                self.project_file.with_suffix(".lock").unlink()
-            os.close(self._lock_fd)
-            self._lock_fd = None
+        self.files.release(delete_lock=True)
 
     def abandon(self) -> None:
         """What a crash does (for tests): stop and let go of the files without deleting them
@@ -502,9 +293,7 @@ class Autosaver(QObject):
             self.window.doc.modifiedChanged.disconnect(self._modified_changed)
         with contextlib.suppress(RuntimeError, TypeError):
             self.window.doc.undo_stack.indexChanged.disconnect(self._stepped)
-        if self._lock_fd is not None:
-            os.close(self._lock_fd)
-            self._lock_fd = None
+        self.files.release(delete_lock=False)
 
     def _stop_timers(self) -> None:
         for timer in (self.timer, self.soon, self.heartbeat):
@@ -516,19 +305,11 @@ class Autosaver(QObject):
         crash right after recovering offers the same work again. This window's own files (it
         had written nothing worth keeping: it was just opened) are let go."""
         self.discard()
-        if self._lock_fd is not None:
-            with contextlib.suppress(OSError):
-                self.project_file.with_suffix(".lock").unlink()
-            os.close(self._lock_fd)
-            self._lock_fd = None
-        self.folder = item.project_file.parent
-        self.session = item.project_file.stem
         try:
-            self._take_lock()
+            self.files.adopt(item)
         except OSError as exc:  # the file stays where it is, offered again next time
             self._failed(exc)
             return
-        self._beat()
         self._saved_index = self.window.doc.undo_stack.index()  # the file holds this state
 
     def _modified_changed(self, modified: bool) -> None:
@@ -567,7 +348,7 @@ class Autosaver(QObject):
 
     def _offer(self) -> int:
         recovered = 0
-        for item in find_recoveries(self.folder):
+        for item in find_recoveries(self.files.folder):
             buttons = (QMessageBox.StandardButton.Yes | QMessageBox.StandardButton.Discard
                        | QMessageBox.StandardButton.Ignore)
             answer = QMessageBox.question(
@@ -602,12 +383,6 @@ def _new_window(parent: MainWindow) -> MainWindow:
     parent._recovered_windows = [*getattr(parent, "_recovered_windows", []), window]
     window.show()
     return window
-
-
-def _write_json(path: Path, data: dict[str, Any]) -> None:
-    temp = path.with_name(f".{path.name}.tmp")
-    temp.write_text(json.dumps(data), encoding="utf-8")
-    os.replace(temp, path)
 
 
 def _interval_minutes() -> float:
