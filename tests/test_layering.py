@@ -50,3 +50,15 @@ def test_no_glsl_inside_python() -> None:
     offenders = [str(p.relative_to(ROOT)) for p in (ROOT / "studio").rglob("*.py")
                  if version_line.search(p.read_text(encoding="utf-8"))]
     assert offenders == []
+
+
+def test_widget_models_are_qt_free() -> None:
+    """A panel's model (``studio/widgets/**/*_model.py``, napari's split) is tested without a
+    display: it imports no Qt and no GL, and of the widgets only other models."""
+    models = sorted((ROOT / "studio" / "widgets").rglob("*_model.py"))
+    assert models  # the rule must look at something
+    found = [f"{path.relative_to(ROOT)} imports {name}" for path in models
+             for name in imported_modules(path)
+             if any(name == f or name.startswith(f + ".") for f in QT + GL)
+             and not name.endswith("_model")]
+    assert found == []
