@@ -9,253 +9,42 @@ the viewport's paint tool, like the tool options bar of an image editor.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
-import numpy as np
-from PySide6.QtCore import QEvent, QObject, QSettings, QSize, Qt, QTimer, Signal
-from PySide6.QtGui import QColor, QIcon, QPixmap
+from PySide6.QtCore import QEvent, QObject, QSize, Qt, QTimer, Signal
 from PySide6.QtWidgets import (
     QCheckBox,
-    QColorDialog,
     QComboBox,
-    QCompleter,
     QDoubleSpinBox,
     QFileDialog,
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
-    QLineEdit,
     QListWidget,
     QListWidgetItem,
     QMessageBox,
-    QPushButton,
     QScrollArea,
-    QSlider,
     QSpinBox,
-    QToolButton,
     QVBoxLayout,
     QWidget,
 )
 
 from studio.core.files.errors import StudioError
-from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.setup.pose_map import map_on_link, wrinkle_map_for_pose
+from studio.core.setup.pose_map import wrinkle_map_for_pose
 from studio.core.wrinkles import mask_ops
-from studio.core.wrinkles.brush import Brush, Mirror, UvMirror
 from studio.core.wrinkles.flat_reveal import reveal_maps, t1_reveal
-from studio.core.wrinkles.surface_mirror import SurfaceMirror
-from studio.widgets.commands import new_gesture
 from studio.widgets.document import Document
-from studio.widgets.flow_layout import FlowLayout, flow, labelled
+from studio.widgets.flow_layout import flow, labelled
 from studio.widgets.paint import edits as mask_edits
+from studio.widgets.paint.area_links import AreaLinks, button
+from studio.widgets.paint.area_row import AreaRow
+from studio.widgets.paint.areas_model import can_move, flat_tooltip, kept_selection, solo
 from studio.widgets.paint.link_editor import LinkEditor
-from studio.widgets.rebuild import clear_form
-from studio.widgets.timeline.pose_panel import pose_label
-from studio.widgets.viewport.techniques import show_technique_1
+from studio.widgets.paint.paint_state import MIRROR_MODES, PaintState
 
 IMAGE_FILTER = "Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.tga *.webp)"
-MIRROR_MODES = {
-    "off": ("Off", "Dabs land only under the brush"),
-    "uv": ("In UV (u → 1 − u)", "Every dab also lands mirrored across the UV square's middle: "
-           "right when the UV layout is itself symmetric"),
-    "mesh": ("Through the mesh (x → −x)", "Every dab also lands at the mirrored point of the "
-             "face's surface (across x = 0), whatever the UV layout"),
-}
-BRUSH_SETTINGS = ("radius", "hardness", "opacity", "flow")  # remembered between sessions
 FLAT_CHECK_MS = 300  # a paint stroke's dabs settle this long before the flat-map check reruns
-WARNING_STYLE = "color: #e0a030;"
-
-
-class PaintState(QObject):
-    """The brush and the area being painted: tool options, not project data."""
-
-    changed = Signal()
-    activeChanged = Signal(int)
-
-    def __init__(self, parent: QObject | None = None) -> None:
-        super().__init__(parent)
-        self.brush = Brush()
-        self.active = -1
-        self.mirror = "off"  # a key of MIRROR_MODES
-        self.overlap = False
-        self._surface: SurfaceMirror | None = None
-        # (model axis, position) of the face's left–right symmetry plane, and the skin's
-        # triangles (the mirror's only targets); the mask tools point these at the document
-        self.mirror_plane: Callable[[], tuple[int, float]] = lambda: (0, 0.0)
-        self.skin_triangles: Callable[[], np.ndarray | None] = lambda: None
-
-    def set_brush(self, **values) -> None:
-        for key, value in values.items():
-            setattr(self.brush, key, value)
-        self.changed.emit()
-
-    def set_erase(self, erase: bool) -> None:
-        self.set_brush(erase=bool(erase))
-
-    def scale_radius(self, factor: float) -> None:
-        self.set_brush(radius=float(min(max(self.brush.radius * factor, 1.0), 1000.0)))
-
-    def set_active(self, index: int) -> None:
-        if index != self.active:
-            self.active = index
-            self.activeChanged.emit(index)
-
-    def set_option(self, **values) -> None:
-        for key, value in values.items():
-            setattr(self, key, value)
-        self.changed.emit()
-
-    def set_mirror(self, mode: str) -> None:
-        if mode not in MIRROR_MODES:
-            raise ValueError(f"unknown mirror mode {mode!r}")
-        self.set_option(mirror=mode)
-
-    # --- mirrors -------------------------------------------------------------------------------
-    def surface_mirror(self, mesh: FaceMesh) -> SurfaceMirror:
-        """The mirror through this mesh, built once per mesh (its lookups are precomputed)."""
-        axis, plane = self.mirror_plane()
-        skin = self.skin_triangles()
-        if self._surface is None or self._surface.mesh is not mesh or \
-                (self._surface.axis, self._surface.plane) != (axis, plane) or \
-                self._surface.skin is not skin:
-            self._surface = SurfaceMirror(mesh, axis, plane, skin)
-        return self._surface
-
-    def stroke_mirror(self, mesh: FaceMesh) -> Mirror | None:
-        """What a new stroke mirrors its dabs with, in the current mode."""
-        if self.mirror == "uv":
-            return UvMirror()
-        if self.mirror == "mesh":
-            return self.surface_mirror(mesh)
-        return None
-
-    # --- remembered between sessions -----------------------------------------------------------
-    def restore(self, settings: QSettings) -> None:
-        """The brush as the user last left it; unreadable values keep the defaults."""
-        for key in BRUSH_SETTINGS:
-            try:
-                value = float(settings.value(f"brush/{key}", getattr(self.brush, key)))
-            except (TypeError, ValueError):
-                continue
-            lo, hi = (1.0, 1000.0) if key == "radius" else (0.0, 1.0)
-            setattr(self.brush, key, min(max(value, lo), hi))
-        mode = str(settings.value("brush/mirror", self.mirror))
-        self.mirror = mode if mode in MIRROR_MODES else self.mirror
-        self.changed.emit()
-
-    def save(self, settings: QSettings) -> None:
-        for key in BRUSH_SETTINGS:
-            settings.setValue(f"brush/{key}", float(getattr(self.brush, key)))
-        settings.setValue("brush/mirror", self.mirror)
-
-
-def swatch(colour: tuple[int, int, int], size: int = 14) -> QIcon:
-    pix = QPixmap(size, size)
-    pix.fill(QColor(*colour))
-    return QIcon(pix)
-
-
-class AreaRow(QWidget):
-    """One layer: visibility, colour, name and its own activation slider."""
-
-    def __init__(self, panel: AreasPanel, index: int) -> None:
-        super().__init__()
-        self.panel, self.index = panel, index
-        area = panel.doc.project.influence.areas[index]
-        self.visible = QCheckBox()
-        self.visible.setChecked(area.visible)
-        self.visible.setToolTip("Show / hide this area (hidden areas give no wrinkles)")
-        self.colour = QToolButton()
-        self.colour.setIcon(swatch(area.colour))
-        self.colour.setToolTip("Change the area's colour")
-        self.colour.setAutoRaise(True)
-        self.name = QLabel(area.name)
-        self.name.setMinimumWidth(max(110, self.name.sizeHint().width()))  # never cut
-        self.editor = QLineEdit(area.name)  # the name, renamed in place (F2, double-click)
-        self.editor.hide()
-        self.editor.returnPressed.connect(self._renamed)
-        self.editor.editingFinished.connect(self._renamed)
-        self.editor.installEventFilter(self)
-        self.flag = QLabel("⚠")  # shown when the area reveals a flat part of its map
-        self.flag.setStyleSheet(WARNING_STYLE)
-        self.flag.hide()
-        self.slider = QSlider(Qt.Orientation.Horizontal)
-        self.slider.setRange(0, 100)
-        self.slider.setToolTip("The area's own activation (pose links add to it)")
-        self.slider.setObjectName(f"activation:{area.name}")
-        self.value = QLabel()
-        self.value.setFixedWidth(34)
-        layout = QHBoxLayout(self)
-        layout.setContentsMargins(4, 1, 4, 1)
-        for w in (self.visible, self.colour, self.name, self.editor, self.flag):
-            layout.addWidget(w)
-        layout.addWidget(self.slider, 1)
-        layout.addWidget(self.value)
-        self._gesture: int | None = None
-        self.flagged = ""  # why the area shows nothing (AreasPanel._show_flat), or ""
-        self.show_values()
-        self.visible.toggled.connect(
-            lambda v: mask_edits.set_area_visible(panel.doc, self.index, v))
-        self.colour.clicked.connect(self._pick_colour)
-        self.slider.sliderPressed.connect(self._begin)
-        self.slider.sliderReleased.connect(self._end)
-        self.slider.valueChanged.connect(self._moved)
-
-    def rename(self) -> None:
-        """Edit the name where it is, as the Wrinkle vectors panel and Blender's lists do:
-        Return or a click elsewhere keeps it, Escape leaves it as it was."""
-        self.name.hide()
-        self.editor.setText(self.name.text())
-        self.editor.show()
-        self.editor.setFocus()
-        self.editor.selectAll()
-
-    def _renamed(self) -> None:
-        if self.editor.isHidden():
-            return  # (Return, then the focus leaving: one rename)
-        self.editor.hide()
-        self.name.show()
-        name = self.editor.text().strip()
-        if name and name != self.name.text() and not mask_edits.rename_area(
-                self.panel.doc, self.index, name):
-            self.panel.say_taken(name)
-
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
-        if (watched is self.editor and event.type() == QEvent.Type.KeyPress
-                and event.key() == Qt.Key.Key_Escape):
-            self.editor.setText(self.name.text())
-            self.editor.hide()
-            self.name.show()
-            return True
-        return super().eventFilter(watched, event)
-
-    def _begin(self) -> None:
-        self._gesture = new_gesture()
-
-    def _end(self) -> None:
-        self._gesture = None
-
-    def _moved(self, value: int) -> None:
-        self.panel.doc.set_area_activation(self.index, value / 100.0, self._gesture)
-
-    def _pick_colour(self) -> None:
-        area = self.panel.doc.project.influence.areas[self.index]
-        colour = QColorDialog.getColor(QColor(*area.colour), self, f"Colour of {area.name}")
-        if colour.isValid():
-            mask_edits.set_area_colour(self.panel.doc, self.index,
-                                       (colour.red(), colour.green(), colour.blue()))
-
-    def show_values(self) -> None:
-        doc = self.panel.doc
-        area = doc.project.influence.areas[self.index]
-        self.slider.blockSignals(True)
-        self.slider.setValue(round(area.activation * 100))
-        self.slider.blockSignals(False)
-        total = doc.activations()[self.index]
-        self.value.setText(f"{total:.2f}")
-        self.value.setToolTip("Activation now, pose links included")
 
 
 class AreasPanel(QScrollArea):
@@ -267,9 +56,6 @@ class AreasPanel(QScrollArea):
         self.doc = document
         self.state = state
         self.rows: list[AreaRow] = []
-        self.link_spins: dict[str, QDoubleSpinBox] = {}
-        self.link_editors: dict[str, LinkEditor] = {}
-        self._links_key: tuple | None = None  # what the links form shows (_show_links)
         self.setWidgetResizable(True)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setFrameShape(QScrollArea.Shape.NoFrame)
@@ -279,7 +65,11 @@ class AreasPanel(QScrollArea):
         # without scrolling (MetaHuman's and Substance's layer stacks keep their properties
         # beside the list); the brush and whole-mask tools below
         layout.addWidget(self._build_layers())
-        layout.addWidget(self._build_links())
+        self.links = AreaLinks(self)
+        layout.addWidget(self.links)
+        self.flat_note, self.add_pose, self.map_said = (self.links.flat_note,
+                                                        self.links.add_pose, self.links.map_said)
+        self.links_form, self.auto_pose = self.links.links_form, self.links.auto_pose
         layout.addWidget(self._build_brush())
         layout.addWidget(self._build_adjust())
         layout.addWidget(self._build_images())
@@ -287,10 +77,10 @@ class AreasPanel(QScrollArea):
         self.setWidget(body)
         document.projectReplaced.connect(self._rebuild)
         document.areasChanged.connect(self._rebuild)
-        document.texturesChanged.connect(self._show_links)
+        document.texturesChanged.connect(self.links.show_links)
         document.masksChanged.connect(self._show_resolution)
         document.activationsChanged.connect(self._show_values)
-        document.curvesChanged.connect(self._show_curves)
+        document.curvesChanged.connect(self.links.show_curves)
         document.poseWeightsChanged.connect(self._show_values)
         document.posesChanged.connect(self._rebuild)
         state.changed.connect(self._show_brush)
@@ -305,12 +95,17 @@ class AreasPanel(QScrollArea):
         if self.doc.project.influence.areas:
             self.select(0)
 
-    # --- building ------------------------------------------------------------------------------
-    def _button(self, text: str, tip: str, slot) -> QPushButton:
-        b = QPushButton(text)
-        b.setToolTip(tip)
-        b.clicked.connect(slot)
-        return b
+    @property
+    def link_spins(self) -> dict[str, QDoubleSpinBox]:
+        return self.links.link_spins
+
+    @property
+    def link_editors(self) -> dict[str, LinkEditor]:
+        return self.links.link_editors
+
+    @property
+    def map_combo(self) -> QComboBox | None:
+        return self.links.map_combo
 
     def _build_layers(self) -> QGroupBox:
         box = QGroupBox("Influence areas")
@@ -336,7 +131,7 @@ class AreasPanel(QScrollArea):
                             "the mesh: …_L becomes …_R, linked to the paired poses",
                   self.mirror_to_other_side),
                  ("Solo", "Show only the selected area's wrinkles (again: all)", self.solo)]
-        v.addWidget(flow(*(self._button(text, tip, slot) for text, tip, slot in specs)))
+        v.addWidget(flow(*(button(text, tip, slot) for text, tip, slot in specs)))
         res = QHBoxLayout()
         res.addWidget(QLabel("Mask resolution"))
         self.resolution = QComboBox()
@@ -406,14 +201,14 @@ class AreasPanel(QScrollArea):
         self.blur_radius.setSuffix(" px")
         self.blur_radius.setToolTip("How far Blur softens")
         v.addWidget(flow(
-            self._button("Fill", "Fill with the brush opacity", lambda: self.apply(
+            button("Fill", "Fill with the brush opacity", lambda: self.apply(
                 "Fill", lambda m: mask_ops.fill(m, self.state.brush.opacity))),
-            self._button("Clear", "Set to 0", lambda: self.apply(
+            button("Clear", "Set to 0", lambda: self.apply(
                 "Clear", lambda m: mask_ops.fill(m, 0))),
-            self._button("Invert", "1 − mask", lambda: self.apply("Invert", mask_ops.invert)),
-            self._button("Mirror L→R", "Copy the image's left half onto the right",
+            button("Invert", "1 − mask", lambda: self.apply("Invert", mask_ops.invert)),
+            button("Mirror L→R", "Copy the image's left half onto the right",
                          lambda: self.apply("Mirror", lambda m: mask_ops.mirror_u(m, "left"))),
-            self._button("Blur", "Soften the mask's edges", lambda: self.apply(
+            button("Blur", "Soften the mask's edges", lambda: self.apply(
                 "Blur", lambda m: mask_ops.blur(m, self.blur_radius.value()))),
             self.blur_radius))
         self.black = QDoubleSpinBox()
@@ -426,58 +221,10 @@ class AreasPanel(QScrollArea):
             spin.setValue(value)
         v.addWidget(flow(*(labelled(text, spin) for text, spin in (
             ("black", self.black), ("white", self.white), ("γ", self.gamma))),
-            self._button("Levels", "Map black…white to 0…1, then gamma",
+            button("Levels", "Map black…white to 0…1, then gamma",
                          lambda: self.apply("Levels", lambda m: mask_ops.levels(
                              m, self.black.value(), self.white.value(),
                              self.gamma.value())))))
-        return box
-
-    def _build_links(self) -> QGroupBox:
-        """The selected area's map and the poses that drive it: only the linked ones, each
-        with its gain and response curve, and "Add pose…" to link another by typing part of
-        its name (MetaHuman's and Character Creator's "driven by" lists), not one field per
-        pose of the rig."""
-        box = QGroupBox("Selected area: wrinkled map, driven by")
-        v = QVBoxLayout(box)
-        self.flat_note = QLabel()
-        self.flat_note.setWordWrap(True)
-        self.flat_note.setStyleSheet(WARNING_STYLE)
-        self.flat_note.hide()
-        v.addWidget(self.flat_note)
-        self.add_pose = QComboBox()
-        self.add_pose.setEditable(True)
-        self.add_pose.setInsertPolicy(QComboBox.InsertPolicy.NoInsert)
-        self.add_pose.lineEdit().setPlaceholderText("Add pose… (type to search)")
-        self.add_pose.setToolTip("Link another key pose to this area (gain 1; change it "
-                                 "below). Type part of a name, then Return")
-        completer = self.add_pose.completer()
-        completer.setFilterMode(Qt.MatchFlag.MatchContains)
-        completer.setCompletionMode(QCompleter.CompletionMode.PopupCompletion)
-        self.add_pose.activated.connect(self._pose_added)
-        v.addWidget(self.add_pose)  # first: in sight under the list, however many links
-        self.map_said = QLabel()  # which map a link made the area reveal, and why
-        self.map_said.setWordWrap(True)
-        self.map_said.hide()
-        v.addWidget(self.map_said)
-        self.links_form = QFormLayout()
-        self.links_form.setRowWrapPolicy(QFormLayout.RowWrapPolicy.WrapAllRows)
-        v.addLayout(self.links_form)
-        note = QLabel("Moving toward a pose raises this area's activation by gain × "
-                      "curve(weight); the curve shapes how (linear unless chosen).")
-        note.setWordWrap(True)
-        v.addWidget(note)
-        auto = FlowLayout()
-        auto.addWidget(QLabel("From pose"))
-        self.auto_pose = QComboBox()
-        self.auto_pose.setToolTip("The key pose whose skin compression becomes the new area")
-        self.auto_pose.setSizeAdjustPolicy(
-            QComboBox.SizeAdjustPolicy.AdjustToMinimumContentsLengthWithIcon)
-        self.auto_pose.setMinimumContentsLength(10)
-        auto.addWidget(self.auto_pose)
-        auto.addWidget(self._button("Auto mask", "A new soft area where this pose compresses "
-                                    "the skin, linked to the pose, revealing the wrinkled map "
-                                    "whose furrows belong to it", self.auto_mask))
-        v.addLayout(auto)
         return box
 
     def _build_images(self) -> QGroupBox:
@@ -491,13 +238,13 @@ class AreasPanel(QScrollArea):
         self.bits.addItem("8-bit PNG", 8)
         self.bits.setToolTip("The depth exported masks are written with")
         v.addWidget(flow(
-            self._button("Import images…", "Each image becomes an area, resampled to the mask "
+            button("Import images…", "Each image becomes an area, resampled to the mask "
                          "resolution", self.import_dialog),
-            self._button("Import folder…", "Every image in a folder becomes an area",
+            button("Import folder…", "Every image in a folder becomes an area",
                          self.import_folder_dialog),
-            self._button("Export selected…", "Save the selected mask as a PNG (white = "
+            button("Export selected…", "Save the selected mask as a PNG (white = "
                          "strong)", self.export_dialog),
-            self._button("Export all…", "Save every mask into a folder",
+            button("Export all…", "Save every mask into a folder",
                          self.export_all_dialog),
             self.bits))
         return box
@@ -517,7 +264,7 @@ class AreasPanel(QScrollArea):
             self.list.setItemWidget(item, row)
             self.rows.append(row)
         self.list.blockSignals(False)
-        current = min(max(current, 0), len(areas) - 1) if areas else -1
+        current = kept_selection(current, len(areas))
         self.list.blockSignals(True)
         self.list.setCurrentRow(current)
         self.list.blockSignals(False)
@@ -527,7 +274,7 @@ class AreasPanel(QScrollArea):
         if [self.auto_pose.itemText(i) for i in range(self.auto_pose.count())] != poses:
             self.auto_pose.clear()
             self.auto_pose.addItems(poses)
-        self._show_links()
+        self.links.show_links()
         self._show_resolution()
         # measuring a real head's maps takes about a second: off the path of opening the window
         # or a project, once the first frame is up
@@ -545,9 +292,7 @@ class AreasPanel(QScrollArea):
             reveal = t1_reveal(maps, area)
             row.flagged = reveal.reason() if reveal is not None and reveal.flagged else ""
             row.flag.setVisible(bool(row.flagged))
-            row.flag.setToolTip(f"{area.name} {row.flagged}: its heat of the weight is hot, "
-                                "the picture does not change. Paint where the map has "
-                                "wrinkles, or choose another map" if row.flagged else "")
+            row.flag.setToolTip(flat_tooltip(area.name, row.flagged))
         active = self.rows[self.state.active].flagged if 0 <= self.state.active < len(
             self.rows) else ""
         self.flat_note.setText(f"This area {active}." if active else "")
@@ -583,99 +328,6 @@ class AreasPanel(QScrollArea):
                 widget.setValue(value)
             widget.blockSignals(False)
 
-    def _show_links(self) -> None:
-        """The selected area's map and the poses that drive it. The same area driven by the
-        same poses is shown in place, so the field a person is typing in stays where it is (and
-        alive: this runs inside that field's own signal); anything else makes the form again
-        (its widgets deleted once the event that asked is over)."""
-        area = self.active_area()
-        textures = self.doc.project.textures
-        linked = [] if area is None else [
-            p for p in self.doc.project.pose_names
-            if self.doc.project.influence.links.get(p, {}).get(area.name)]
-        key = None if area is None else (self.state.active, area.name, tuple(linked),
-                                         tuple(self.doc.project.pose_names),
-                                         tuple(textures.wrinkle_map_names))
-        if area is not None and key == self._links_key:
-            self.map_combo.blockSignals(True)
-            self.map_combo.setCurrentIndex(textures.map_index(area.wrinkle_map))
-            self.map_combo.blockSignals(False)
-            for editor in self.link_editors.values():
-                editor.show_link()
-            return
-        self._links_key = key
-        clear_form(self.links_form)
-        self.link_spins = {}
-        self.link_editors = {}
-        self.add_pose.setEnabled(area is not None)
-        if area is None:
-            self.links_form.addRow(QLabel("No area selected."))
-            return
-        self.map_combo = QComboBox()
-        self.map_combo.setToolTip("The wrinkled normal map this area reveals (Maps menu: add "
-                                  "more)")
-        for name in textures.wrinkle_map_names:
-            self.map_combo.addItem(name, name)
-        self.map_combo.setCurrentIndex(textures.map_index(area.wrinkle_map))
-        index = self.state.active
-        self.map_combo.activated.connect(lambda i: self._map_chosen(index, i))
-        self.links_form.addRow("Wrinkled map", self.map_combo)
-        if not linked:
-            hint = QLabel("Driven by no pose yet: add one above, or move the area's own "
-                          "activation slider.")
-            hint.setWordWrap(True)
-            self.links_form.addRow(hint)
-        for pose in linked:
-            editor = LinkEditor(self.doc, pose, area.name)
-            self.links_form.addRow(pose_label(pose), editor)
-            self.link_editors[pose] = editor
-            self.link_spins[pose] = editor.spin
-        self.add_pose.blockSignals(True)
-        self.add_pose.clear()
-        self.add_pose.addItems([p for p in self.doc.project.pose_names[1:] if p not in linked])
-        self.add_pose.setCurrentIndex(-1)
-        self.add_pose.blockSignals(False)
-
-    def _pose_added(self, row: int) -> None:
-        """Link the pose (gain 1) and, for an area whose map nobody chose, reveal the pose's
-        own map in the same undo step — a frown's area shows the frown's lines, not the first
-        map's forehead furrows — and show technique 1, where areas show; say both."""
-        area = self.active_area()
-        pose = self.add_pose.itemText(row)
-        if area is None or pose not in self.doc.project.pose_names:
-            return
-        index = self.state.active
-        project = self.doc.project
-        chosen = map_on_link(project, area, pose)
-        stack = self.doc.undo_stack
-        stack.beginMacro(f"Link {pose} → {area.name}")
-        mask_edits.set_link(self.doc, pose, area.name, 1.0)
-        if chosen is not None:
-            mask_edits.set_area_map(self.doc, index, chosen)
-        stack.endMacro()
-        said = []
-        if chosen is not None:
-            said.append(f"“{area.name}” reveals “{chosen}”, the map of {pose} (choose "
-                        "another under Wrinkled map).")
-        self.map_said.setText(said[0] if said else "")
-        self.map_said.setVisible(bool(said))
-        switched = show_technique_1(self.doc)
-        if switched:
-            said.append(switched)
-        if said:
-            self.said.emit(" ".join(said))
-        editor = self.link_editors.get(pose)
-        if editor is not None:  # on to its gain, as a person goes on to set it
-            editor.spin.setFocus()
-            editor.spin.selectAll()
-
-    def _show_curves(self) -> None:
-        for editor in self.link_editors.values():
-            editor.refresh()
-
-    def _map_chosen(self, index: int, row: int) -> None:
-        mask_edits.set_area_map(self.doc, index, self.map_combo.itemData(row))
-
     # --- selection -----------------------------------------------------------------------------
     def select(self, index: int) -> None:
         self.list.setCurrentRow(index)
@@ -683,7 +335,7 @@ class AreasPanel(QScrollArea):
     def _row_selected(self, row: int) -> None:
         self.map_said.hide()  # (it spoke of the area that was selected)
         self.state.set_active(row)
-        self._show_links()
+        self.links.show_links()
         self._show_flat()
 
     def active_index(self) -> int:
@@ -717,11 +369,8 @@ class AreasPanel(QScrollArea):
         index = self.active_index()
         if not 0 <= index < len(areas):
             return
-        alone = tuple(i == index for i in range(len(areas)))
-        if tuple(a.visible for a in areas) == alone:
-            mask_edits.set_visible_all(self.doc, tuple(True for _ in areas), "Show all areas")
-        else:
-            mask_edits.set_visible_all(self.doc, alone, f"Solo {areas[index].name}")
+        mask_edits.set_visible_all(self.doc, *solo(tuple(a.visible for a in areas), index,
+                                                   areas[index].name))
 
     def delete(self) -> None:
         if self.active_area() is not None:
@@ -729,7 +378,7 @@ class AreasPanel(QScrollArea):
 
     def move(self, step: int) -> None:
         i = self.state.active
-        if self.active_area() is not None and 0 <= i + step < len(self.rows):
+        if self.active_area() is not None and can_move(i, step, len(self.rows)):
             mask_edits.move_area(self.doc, i, i + step)
             self.select(i + step)
 

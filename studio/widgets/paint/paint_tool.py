@@ -26,9 +26,9 @@ from studio.core.mesh.picking import Hit, ray_triangles
 from studio.core.wrinkles.brush import Stroke, union
 from studio.core.wrinkles.surface_mirror import SeamMap, SurfaceMirror, footprint_ring
 from studio.widgets.document import Document
-from studio.widgets.paint.areas_panel import PaintState
 from studio.widgets.paint.brush_cursor import BrushCursor, Ring
 from studio.widgets.paint.edits import PaintSession, _announce_region
+from studio.widgets.paint.paint_state import PaintState
 
 __all__ = ["FacePaintTool", "SeamMap"]
 

@@ -43,8 +43,8 @@ from PySide6.QtWidgets import (
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.mask_ops import mesh_edges
 from studio.widgets.document import Document
-from studio.widgets.paint.areas_panel import MIRROR_MODES, PaintState
 from studio.widgets.paint.edits import PaintSession
+from studio.widgets.paint.paint_state import MIRROR_MODES, PaintState
 
 OVERLAY_ALPHA = 0.7
 OVER_RGBA = (255, 40, 40, 170)
