@@ -10,19 +10,13 @@ middle-drag or Space+left-drag; F fits the layout. Left-drag paints, X toggles t
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QLineF, QPointF, QRectF, Qt, QTimer, Signal
+from PySide6.QtCore import QPointF, QRectF, Qt, QTimer, Signal
 from PySide6.QtGui import (
     QBrush,
     QColor,
-    QImage,
-    QKeyEvent,
-    QMouseEvent,
-    QPainter,
     QPen,
     QPixmap,
-    QTabletEvent,
     QTransform,
-    QWheelEvent,
 )
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -31,7 +25,6 @@ from PySide6.QtWidgets import (
     QGraphicsItem,
     QGraphicsPixmapItem,
     QGraphicsScene,
-    QGraphicsView,
     QHBoxLayout,
     QLabel,
     QPushButton,
@@ -43,231 +36,18 @@ from PySide6.QtWidgets import (
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.mask_ops import mesh_edges
 from studio.widgets.document import Document
-from studio.widgets.paint.edits import PaintSession
+from studio.widgets.paint.canvas_items import BufferItem, LinesItem, to_qimage
 from studio.widgets.paint.paint_state import MIRROR_MODES, PaintState
-
-OVERLAY_ALPHA = 0.7
-OVER_RGBA = (255, 40, 40, 170)
-NONE_RGBA = (0, 0, 0, 120)  # a dark veil where no area reaches
-
-
-def to_qimage(rgb: np.ndarray) -> QImage:
-    """An 8-bit RGB copy of a texture (16-bit maps are shown at 8 bits)."""
-    if rgb.dtype == np.uint16:
-        rgb = (rgb >> 8).astype(np.uint8)
-    rgb = np.ascontiguousarray(rgb[:, :, :3])
-    h, w = rgb.shape[:2]
-    return QImage(rgb.data, w, h, 3 * w, QImage.Format.Format_RGB888).copy()
-
-
-class BufferItem(QGraphicsItem):
-    """An RGBA image in scene pixels whose rectangles can be rewritten and repainted alone."""
-
-    def __init__(self, w: int, h: int) -> None:
-        super().__init__()
-        self.resize(w, h)
-        self.setFlag(QGraphicsItem.GraphicsItemFlag.ItemUsesExtendedStyleOption)
-
-    def resize(self, w: int, h: int) -> None:
-        self.prepareGeometryChange()
-        self.buffer = np.zeros((h, w, 4), np.uint8)  # premultiplied RGBA
-        self.image = QImage(self.buffer.data, w, h, 4 * w,
-                            QImage.Format.Format_RGBA8888_Premultiplied)
-
-    def boundingRect(self) -> QRectF:
-        return QRectF(0, 0, self.buffer.shape[1], self.buffer.shape[0])
-
-    def paint(self, painter: QPainter, option, widget=None) -> None:
-        rect = option.exposedRect.intersected(self.boundingRect()).toAlignedRect()
-        if rect.isEmpty():
-            return
-        painter.drawImage(rect, self.image, rect)
-
-    def write(self, x: int, y: int, rgba: np.ndarray) -> None:
-        h, w = rgba.shape[:2]
-        self.buffer[y:y + h, x:x + w] = rgba
-        self.update(QRectF(x, y, w, h))
-
-
-class LinesItem(QGraphicsItem):
-    """The UV wireframe: one drawLines call per repaint.
-
-    (Not a QPainterPath built edge by edge: thousands of binding calls per rebuild are slow, and
-    with PySide6 6.12 on Python 3.11 every void-returning call drops a reference to None.)
-    """
-
-    def __init__(self, colour: QColor | None = None) -> None:
-        super().__init__()
-        self.lines: list[QLineF] = []
-        self.rect = QRectF()
-        self.pen = QPen(colour if colour is not None else QColor(255, 255, 255, 110))
-        self.pen.setCosmetic(True)
-        self.pen.setWidthF(0.8)
-
-    def set_lines(self, segments: np.ndarray, rect: QRectF) -> None:
-        """segments: (E, 2, 2) endpoints in scene pixels."""
-        self.prepareGeometryChange()
-        self.lines = [QLineF(ax, ay, bx, by) for (ax, ay), (bx, by) in segments.tolist()]
-        self.rect = rect
-        self.update()
-
-    def boundingRect(self) -> QRectF:
-        return self.rect
-
-    def paint(self, painter: QPainter, option, widget=None) -> None:
-        painter.setPen(self.pen)
-        painter.drawLines(self.lines)
-
-
-def outline_edges(triangles: np.ndarray) -> np.ndarray:
-    """(E, 2) the edges of a set of triangles that only one of them uses: the outline of
-    each piece they make, without the edges inside it."""
-    e = np.sort(np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]],
-                                triangles[:, [2, 0]]]), axis=1)
-    edges, counts = np.unique(e, axis=0, return_counts=True)
-    return edges[counts == 1]
-
-
-class PaintView(QGraphicsView):
-    """The canvas itself: navigation, the brush cursor and painting."""
-
-    def __init__(self, canvas: UvCanvas) -> None:
-        super().__init__(canvas.scene)
-        self.canvas = canvas
-        self.setTransformationAnchor(QGraphicsView.ViewportAnchor.AnchorUnderMouse)
-        self.setResizeAnchor(QGraphicsView.ViewportAnchor.AnchorViewCenter)
-        self.setViewportUpdateMode(QGraphicsView.ViewportUpdateMode.MinimalViewportUpdate)
-        self.setBackgroundBrush(QColor(38, 38, 42))
-        self.setMouseTracking(True)
-        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
-        self.setCursor(Qt.CursorShape.CrossCursor)
-        self._pan: QPointF | None = None
-        self._space = False
-        self._session: PaintSession | None = None
-        self._fitted = True  # until the user zooms or pans
-
-    # navigation
-    def fit(self) -> None:
-        """The chosen UV tile (or the whole UV square) in view; it stays fitted on resize until
-        the user zooms or pans."""
-        rect = self.canvas.tile_rect()
-        margin = max(rect.width(), rect.height()) / 128.0
-        self.fitInView(rect.adjusted(-margin, -margin, margin, margin),
-                       Qt.AspectRatioMode.KeepAspectRatio)
-        self._fitted = True
-
-    def showEvent(self, event) -> None:
-        super().showEvent(event)
-        if self._fitted:
-            self.fit()
-
-    def resizeEvent(self, event) -> None:
-        super().resizeEvent(event)
-        if self._fitted:
-            self.fit()
-
-    def wheelEvent(self, event: QWheelEvent) -> None:
-        steps = event.angleDelta().y() / 120.0
-        factor = 1.2 ** steps
-        scale = self.transform().m11() * factor
-        if 0.02 < scale < 64.0:
-            self.scale(factor, factor)
-            self._fitted = False
-        self.canvas.update_cursor(self.mapToScene(event.position().toPoint()))
-
-    def _start_pan(self, event: QMouseEvent) -> None:
-        self._pan = event.position()
-        self._fitted = False
-        self.setCursor(Qt.CursorShape.ClosedHandCursor)
-
-    def mousePressEvent(self, event: QMouseEvent) -> None:
-        button = event.button()
-        if button == Qt.MouseButton.MiddleButton or (
-                button == Qt.MouseButton.LeftButton and self._space):
-            self._start_pan(event)
-        elif button == Qt.MouseButton.LeftButton:
-            self._begin(event.position(), 1.0)
-        else:
-            super().mousePressEvent(event)
-
-    def mouseMoveEvent(self, event: QMouseEvent) -> None:
-        if self._pan is not None:
-            delta = event.position() - self._pan
-            self._pan = event.position()
-            h, v = self.horizontalScrollBar(), self.verticalScrollBar()
-            h.setValue(h.value() - round(delta.x()))
-            v.setValue(v.value() - round(delta.y()))
-            return
-        self.canvas.update_cursor(self.mapToScene(event.position().toPoint()))
-        if self._session is not None:
-            self._continue(event.position(), 1.0)
-
-    def mouseReleaseEvent(self, event: QMouseEvent) -> None:
-        if self._pan is not None and event.button() in (Qt.MouseButton.MiddleButton,
-                                                         Qt.MouseButton.LeftButton):
-            self._pan = None
-            self.setCursor(Qt.CursorShape.OpenHandCursor if self._space
-                           else Qt.CursorShape.CrossCursor)
-        elif event.button() == Qt.MouseButton.LeftButton:
-            self._finish()
-
-    def tabletEvent(self, event: QTabletEvent) -> None:
-        """Pen input: the same stroke, each dab scaled by the pen's pressure."""
-        kind = event.type()
-        pressure = float(event.pressure())
-        if kind == QTabletEvent.Type.TabletPress and not self._space:
-            self._begin(event.position(), pressure)
-        elif kind == QTabletEvent.Type.TabletMove:
-            self.canvas.update_cursor(self.mapToScene(event.position().toPoint()))
-            if self._session is not None:
-                self._continue(event.position(), pressure)
-        elif kind == QTabletEvent.Type.TabletRelease:
-            self._finish()
-        event.accept()
-
-    def keyPressEvent(self, event: QKeyEvent) -> None:
-        key = event.key()
-        if key == Qt.Key.Key_Space and not event.isAutoRepeat():
-            self._space = True
-            self.setCursor(Qt.CursorShape.OpenHandCursor)
-        elif key == Qt.Key.Key_F:
-            self.fit()
-        elif key in (Qt.Key.Key_BracketLeft, Qt.Key.Key_BracketRight):
-            self.canvas.state.scale_radius(0.8 if key == Qt.Key.Key_BracketLeft else 1.25)
-        elif key == Qt.Key.Key_X:
-            self.canvas.state.set_erase(not self.canvas.state.brush.erase)
-        else:
-            super().keyPressEvent(event)
-
-    def keyReleaseEvent(self, event: QKeyEvent) -> None:
-        if event.key() == Qt.Key.Key_Space and not event.isAutoRepeat():
-            self._space = False
-            if self._pan is None:
-                self.setCursor(Qt.CursorShape.CrossCursor)
-        else:
-            super().keyReleaseEvent(event)
-
-    # painting
-    def _begin(self, pos: QPointF, pressure: float) -> None:
-        state = self.canvas.state
-        if state.active < 0 or state.active >= len(self.canvas.doc.project.influence.areas):
-            self.canvas.hint.setText("Add or select an area in the Areas panel to paint.")
-            return
-        self._session = PaintSession(self.canvas.doc, state.active, state.brush,
-                                     state.stroke_mirror(self.canvas.doc.project.mesh))
-        p = self.mapToScene(pos.toPoint())
-        self._session.jump(p.x(), p.y(), pressure)
-        self.canvas.previewing.emit(state.active)  # the face shows what the mask reveals
-
-    def _continue(self, pos: QPointF, pressure: float) -> None:
-        p = self.mapToScene(pos.toPoint())
-        self._session.to(p.x(), p.y(), pressure)
-
-    def _finish(self) -> None:
-        if self._session is not None:
-            self._session.end()
-            self._session = None
-            self.canvas.previewing.emit(-1)
+from studio.widgets.paint.paint_view import PaintView
+from studio.widgets.paint.uv_canvas_model import (
+    brush_hint,
+    mask_size,
+    masks_rgba,
+    outline_edges,
+    overlap_activations,
+    overlap_rgba,
+    uv_points,
+)
 
 
 class UvCanvas(QWidget):
@@ -378,8 +158,7 @@ class UvCanvas(QWidget):
 
     # --- building ------------------------------------------------------------------------------
     def mask_size(self) -> tuple[int, int]:
-        res = self.doc.project.influence.resolution
-        return (res[1], res[0]) if res else (1024, 1024)
+        return mask_size(self.doc.project.influence.resolution)
 
     def layout_rect(self) -> QRectF:
         w, h = self.mask_size()
@@ -477,7 +256,7 @@ class UvCanvas(QWidget):
         project = self.doc.project
         mesh = project.mesh
         w, h = self.mask_size()
-        pts = np.c_[mesh.uvs[:, 0] * w, (1.0 - mesh.uvs[:, 1]) * h].astype(float)
+        pts = uv_points(mesh.uvs, w, h)
         skin = project.skin_triangles()
         rect = QRectF(0, 0, w, h)
         self.wire.set_lines(pts[mesh_edges(mesh.triangles[skin])], rect)
@@ -487,43 +266,28 @@ class UvCanvas(QWidget):
     def _rgba(self, x: int, y: int, w: int, h: int) -> np.ndarray:
         """Premultiplied RGBA of the masks in one rectangle."""
         areas = self.doc.project.influence.areas
-        out = np.zeros((h, w, 4), np.uint8)
         if self.show_all.isChecked():
             shown = [a for a in areas if a.visible]
         else:
             a = self.state.active
             shown = [areas[a]] if 0 <= a < len(areas) else []
-        if not shown:
-            return out
-        m = np.stack([a.mask[y:y + h, x:x + w] for a in shown])  # (n, h, w)
-        colours = np.array([a.colour for a in shown], np.float32)  # (n, 3)
-        total = m.sum(axis=0)
-        alpha = np.clip(m.max(axis=0), 0.0, 1.0) * OVERLAY_ALPHA
-        rgb = np.tensordot(m, colours, axes=(0, 0)) / np.maximum(total, 1e-6)[..., None]
-        out[..., :3] = np.rint(rgb * alpha[..., None]).astype(np.uint8)
-        out[..., 3] = np.rint(alpha * 255.0).astype(np.uint8)
-        return out
+        masks = np.zeros((0, h, w), np.float32) if not shown else np.stack(
+            [a.mask[y:y + h, x:x + w] for a in shown])
+        return masks_rgba(masks, np.array([a.colour for a in shown], np.float32).reshape(-1, 3))
 
     def _overlap_rgba(self, x: int, y: int, w: int, h: int) -> np.ndarray:
-        out = np.zeros((h, w, 4), np.uint8)
         areas = self.doc.project.influence.areas
         if not self.state.overlap or not areas:
-            return out
+            return np.zeros((h, w, 4), np.uint8)
         masks = np.stack([a.mask[y:y + h, x:x + w] for a in areas])
-        over, none = mask_ops.overlap(masks, self.overlap_activations(),
-                                      self.coverage()[y:y + h, x:x + w])
-        for where, (r, g, b, a) in ((none, NONE_RGBA), (over, OVER_RGBA)):
-            out[where] = (r * a // 255, g * a // 255, b * a // 255, a)
-        return out
+        return overlap_rgba(*mask_ops.overlap(masks, self.overlap_activations(),
+                                              self.coverage()[y:y + h, x:x + w]))
 
     def overlap_activations(self) -> np.ndarray:
         """The current activations, or every area at 1 while the face is neutral (so a conflict
         shows before any pose is set)."""
-        values = self.doc.activations()
-        if not values.any():
-            values = np.array([1.0 if a.visible else 0.0
-                               for a in self.doc.project.influence.areas], np.float32)
-        return values
+        return overlap_activations(self.doc.activations(),
+                                   [a.visible for a in self.doc.project.influence.areas])
 
     def coverage(self) -> np.ndarray:
         """Where the UV layout has faces, at mask size (computed once, at ≤ 1024², enlarged)."""
@@ -577,19 +341,12 @@ class UvCanvas(QWidget):
 
     def _update_hint(self) -> None:
         areas = self.doc.project.influence.areas
-        a = self.state.active
-        brush = self.state.brush
-        if not (0 <= a < len(areas)):
-            text = "No area selected: add or select one in the Areas panel."
-        else:
-            tool = "Eraser" if brush.erase else "Brush"
-            text = f"{tool} on “{areas[a].name}” · radius {brush.radius:.0f} px · "
-            if self.state.mirror in MIRROR_MODES and self.state.mirror != "off":
-                text += f"mirror {MIRROR_MODES[self.state.mirror][0].lower()} · "
-            text += "wheel zoom, middle/Space-drag pan, [ ] size, X eraser, F fit"
-            if self.state.overlap:
-                text += " · red: Σ mask·activation > 1, dark: no area"
-        self.hint.setText(text)
+        a, state = self.state.active, self.state
+        mirror = MIRROR_MODES[state.mirror][0] if state.mirror in MIRROR_MODES \
+            and state.mirror != "off" else None
+        self.hint.setText(brush_hint(areas[a].name if 0 <= a < len(areas) else None,
+                                     state.brush.erase, state.brush.radius, mirror,
+                                     state.overlap))
 
     # --- brush cursor --------------------------------------------------------------------------
     def update_cursor(self, p: QPointF) -> None:
