@@ -10,17 +10,15 @@ import numpy as np
 import pytest
 
 from studio.core.wrinkles.influence import InfluenceArea
+from studio.widgets.layer_list_model import can_move, kept_selection, solo
 from studio.widgets.paint.areas_model import (
     addable_poses,
     brush_setting,
-    can_move,
     flat_tooltip,
-    kept_selection,
     linked_poses,
     links_shown,
     map_chosen_text,
     scaled_radius,
-    solo,
 )
 
 pytestmark = pytest.mark.core

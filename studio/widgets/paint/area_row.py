@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from PySide6.QtCore import QEvent, QObject, Qt
-from PySide6.QtGui import QColor, QIcon, QPixmap
+from PySide6.QtGui import QColor
 from PySide6.QtWidgets import (
     QCheckBox,
     QColorDialog,
@@ -23,17 +23,12 @@ from PySide6.QtWidgets import (
 
 from studio.widgets.commands import new_gesture
 from studio.widgets.paint import edits as mask_edits
+from studio.widgets.swatch import swatch
 
 if TYPE_CHECKING:
     from studio.widgets.paint.areas_panel import AreasPanel
 
 WARNING_STYLE = "color: #e0a030;"
-
-
-def swatch(colour: tuple[int, int, int], size: int = 14) -> QIcon:
-    pix = QPixmap(size, size)
-    pix.fill(QColor(*colour))
-    return QIcon(pix)
 
 
 class AreaRow(QWidget):

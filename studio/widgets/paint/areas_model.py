@@ -1,10 +1,10 @@
-"""What the Areas panel shows and what its buttons mean, with no Qt in it.
+"""What the Areas panel shows and what its fields mean, with no Qt in it.
 
-Why apart from the panel: which poses drive the selected area, which can still be added, what
-Solo does, which area a list keeps selected after a change, why an area is flagged as showing
-nothing and the brush values kept between sessions are the panel's rules; here they are plain
-values, tested in milliseconds, and ``areas_panel.py`` only shows them and turns clicks into
-document edits (napari's model and view).
+Why apart from the panel: which poses drive the selected area, which can still be added, why an
+area is flagged as showing nothing and the brush values kept between sessions are the panel's
+rules; here they are plain values, tested in milliseconds, and ``areas_panel.py`` only shows
+them and turns clicks into document edits (napari's model and view). The list's own rules
+(Solo, Up/Down, the row kept selected) are ``studio/widgets/layer_list_model.py``'s.
 """
 
 from __future__ import annotations
@@ -34,12 +34,6 @@ def scaled_radius(radius: float, factor: float) -> float:
     return float(min(max(radius * factor, RADIUS_RANGE[0]), RADIUS_RANGE[1]))
 
 
-def kept_selection(current: int, count: int) -> int:
-    """The row a rebuilt list keeps selected: the same row, or the last when it is gone
-    (-1: an empty list)."""
-    return min(max(current, 0), count - 1) if count else -1
-
-
 def linked_poses(project: Project, area: InfluenceArea | None) -> list[str]:
     """The poses that drive ``area`` (a non-zero link), in the project's pose order."""
     if area is None:
@@ -60,20 +54,6 @@ def links_shown(project: Project, active: int, area: InfluenceArea | None) -> tu
         return None
     return (active, area.name, tuple(linked_poses(project, area)), tuple(project.pose_names),
             tuple(project.textures.wrinkle_map_names))
-
-
-def solo(visible: tuple[bool, ...], index: int, name: str) -> tuple[tuple[bool, ...], str]:
-    """Solo: only area ``index`` shows; pressed again (or for an area already alone), all do.
-    Returns the visibility and the undo step's name."""
-    alone = tuple(i == index for i in range(len(visible)))
-    if visible == alone:
-        return tuple(True for _ in visible), "Show all areas"
-    return alone, f"Solo {name}"
-
-
-def can_move(index: int, step: int, count: int) -> bool:
-    """Whether Up (-1) or Down (+1) can move the selected area."""
-    return 0 <= index < count and 0 <= index + step < count
 
 
 def flat_tooltip(name: str, reason: str) -> str:

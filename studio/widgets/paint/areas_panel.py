@@ -36,10 +36,11 @@ from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.flat_reveal import reveal_maps, t1_reveal
 from studio.widgets.document import Document
 from studio.widgets.flow_layout import flow, labelled
+from studio.widgets.layer_list_model import can_move, kept_selection, solo
 from studio.widgets.paint import edits as mask_edits
 from studio.widgets.paint.area_links import AreaLinks, button
 from studio.widgets.paint.area_row import AreaRow
-from studio.widgets.paint.areas_model import can_move, flat_tooltip, kept_selection, solo
+from studio.widgets.paint.areas_model import flat_tooltip
 from studio.widgets.paint.link_editor import LinkEditor
 from studio.widgets.paint.paint_state import MIRROR_MODES, PaintState
 

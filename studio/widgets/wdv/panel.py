@@ -7,12 +7,10 @@ the viewport (S), press Create, move the pose slider to preview.
 
 from __future__ import annotations
 
-import numpy as np
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtGui import QAction, QColor, QIcon, QKeySequence, QPixmap
+from PySide6.QtGui import QAction, QColor, QKeySequence
 from PySide6.QtWidgets import (
     QAbstractItemView,
-    QButtonGroup,
     QCheckBox,
     QColorDialog,
     QComboBox,
@@ -29,23 +27,29 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from studio.core.animation.poses import NEUTRAL
 from studio.core.mesh import selection as sel
 from studio.core.wrinkles.flat_reveal import reveal_maps, t2_reveal
 from studio.widgets.flow_layout import FlowLayout, flow
+from studio.widgets.layer_list_model import solo
 from studio.widgets.slider_row import SliderRow
+from studio.widgets.swatch import swatch
 from studio.widgets.wdv import edits
 from studio.widgets.wdv.comb_tool import CombControls, install_comb
+from studio.widgets.wdv.select_box import SelectBox
 from studio.widgets.wdv.tools import WdvTools
+from studio.widgets.wdv.wdv_model import (
+    area_tooltip,
+    colour_text,
+    create_refused,
+    created_text,
+    flat_text,
+    pose_choices,
+    selection_text,
+    suggested_text,
+)
 
 SAY_MS = 8000  # a status line a person has time to read
 FLAT_CHECK_MS = 300  # the flat-map check waits for the window to show and edits to settle
-
-
-def swatch(colour: tuple[int, int, int], size: int = 14) -> QIcon:
-    pixmap = QPixmap(size, size)
-    pixmap.fill(QColor(*colour))
-    return QIcon(pixmap)
 
 
 class WdvPanel(QScrollArea):
@@ -81,7 +85,13 @@ class WdvPanel(QScrollArea):
         body = QWidget()
         layout = QVBoxLayout(body)
         layout.addWidget(self._build_areas_box())
-        layout.addWidget(self._build_select_box())
+        self.select_box = box = SelectBox(self.doc, self.tools, self.cone_brush_button)
+        layout.addWidget(box)
+        self.tool_button, self.selection_label, self.mode_group = (box.tool_button,
+                                                                   box.selection_label,
+                                                                   box.mode_group)
+        self.mode_buttons, self.radius, self.through = box.mode_buttons, box.radius, box.through
+        self.op_buttons = box.op_buttons
         layout.addWidget(self._build_directions_box())
         hint = QLabel("1. Pick or add an area and its pose  2. S, then drag over the face "
                       "(Shift adds, Ctrl removes)  3. Create  4. Move the pose slider")
@@ -156,7 +166,7 @@ class WdvPanel(QScrollArea):
         self.cone_brush_button.setCheckable(True)
         self.cone_brush_button.setToolTip("Paint a per-vertex cone angle on the face with the "
                                           "brush (Ctrl paints back the area's angle)")
-        self.cone_brush_button.clicked.connect(lambda: self._set_mode("cone"))
+        self.cone_brush_button.clicked.connect(lambda: self.select_box.set_mode("cone"))
         self.cone_selected_button = self._tool_button(
             "Selected", "Give the selected vertices this cone angle", self._cones_to_selection)
         self.cone_clear_button = self._tool_button(
@@ -164,66 +174,6 @@ class WdvPanel(QScrollArea):
             self._clear_cones)
         return flow(self.cone_paint, self.cone_brush_button, self.cone_selected_button,
                     self.cone_clear_button)
-
-    def _build_select_box(self) -> QGroupBox:
-        """The select tool, its modes and brush, and the selection operations."""
-        select = QGroupBox("Select vertices")
-        s_layout = QVBoxLayout(select)
-        self.tool_button = QPushButton("Select tool (S)")
-        self.tool_button.setCheckable(True)
-        self.tool_button.setToolTip("Left-drag in the viewport selects; Alt+drag still orbits")
-        self.tool_button.toggled.connect(self._tool_toggled)
-        s_layout.addWidget(self.tool_button)
-        self.selection_label = QLabel()  # under the tool, not at the box's (cut) bottom edge
-        s_layout.addWidget(self.selection_label)
-        modes = FlowLayout()
-        self.mode_group = QButtonGroup(self)
-        self.mode_buttons: dict[str, QToolButton] = {}
-        for mode, tip in (("click", "Click a vertex"), ("box", "Drag a rectangle"),
-                          ("lasso", "Draw around vertices"), ("brush", "Paint vertices")):
-            b = QToolButton()
-            b.setText(mode.capitalize())
-            b.setCheckable(True)
-            b.setToolTip(f"{tip}. Shift adds, Ctrl removes")
-            b.clicked.connect(lambda _=False, m=mode: self._set_mode(m))
-            self.mode_group.addButton(b)
-            self.mode_buttons[mode] = b
-            modes.addWidget(b)
-        self.mode_group.addButton(self.cone_brush_button)
-        self.mode_buttons["cone"] = self.cone_brush_button
-        self.mode_buttons[self.tools.tool.mode].setChecked(True)
-        s_layout.addLayout(modes)
-        options = FlowLayout()
-        self.radius = QDoubleSpinBox()
-        self.radius.setRange(2.0, 300.0)
-        self.radius.setDecimals(0)
-        self.radius.setSuffix(" px")
-        self.radius.setValue(self.tools.tool.brush_radius)
-        self.radius.setToolTip("Brush radius on screen")
-        self.radius.valueChanged.connect(lambda v: setattr(self.tools.tool, "brush_radius", v))
-        options.addWidget(QLabel("Brush"))
-        options.addWidget(self.radius)
-        self.through = QCheckBox("Select through")
-        self.through.setToolTip("Also pick vertices that face away or are hidden")
-        self.through.toggled.connect(lambda on: setattr(self.tools, "select_through", on))
-        options.addWidget(self.through)
-        s_layout.addLayout(options)
-        grid = FlowLayout()
-        ops = [("Grow", "Add the neighbours of the selection", self._grow),
-               ("Shrink", "Drop the selection's border", self._shrink),
-               ("Invert", "Select what is not selected", self._invert),
-               ("Mirror", "Add the mirror image across the face's symmetry plane", self._mirror),
-               ("All", "Select every vertex", self._all),
-               ("None", "Deselect everything", self._none),
-               ("Area's", "Select the vertices the current area has vectors for",
-                self._from_area)]
-        self.op_buttons: dict[str, QPushButton] = {}
-        for name, tip, slot in ops:
-            b = self._button(name, tip, slot)
-            self.op_buttons[name] = b
-            grid.addWidget(b)
-        s_layout.addLayout(grid)
-        return select
 
     def _build_directions_box(self) -> QGroupBox:
         """Suggest, Create and Clear, what to show, and the status line."""
@@ -310,18 +260,13 @@ class WdvPanel(QScrollArea):
                 item.setText(area.name)
                 item.setCheckState(Qt.CheckState.Checked if area.enabled
                                    else Qt.CheckState.Unchecked)
-                n = int(area.authored.sum())
-                painted = (0 if area.cone_angles_deg is None
-                           else int((area.cone_angles_deg > 0).sum()))
-                item.setToolTip(f"{area.name}: pose “{area.pose}”, {n} vectors, cone "
-                                f"{area.cone_angle_deg:g}° ({painted} vertices painted). "
-                                "Double-click to rename; the check box mutes it")
+                item.setToolTip(area_tooltip(area.name, area.pose, area.authored,
+                                             area.cone_angle_deg, area.cone_angles_deg))
             if current is not None:
                 self.area_list.setCurrentRow(areas.index(current))
             self.pose_combo.clear()
-            for name in self.doc.project.pose_names:
-                if name != NEUTRAL:
-                    self.pose_combo.addItem(name, name)
+            for name in pose_choices(self.doc.project.pose_names):
+                self.pose_combo.addItem(name, name)
             self.map_combo.clear()
             for name in self.doc.project.textures.wrinkle_map_names:
                 self.map_combo.addItem(name, name)
@@ -337,7 +282,7 @@ class WdvPanel(QScrollArea):
                 self.map_combo.setCurrentIndex(textures.map_index(current.wrinkle_map))
                 self.cone.set_value(current.cone_angle_deg)
                 self.colour_button.setIcon(swatch(current.colour, 16))
-                self.colour_button.setText(" #{:02x}{:02x}{:02x}".format(*current.colour))
+                self.colour_button.setText(colour_text(current.colour))
                 self.create_button.setText(f"Create for “{current.name}”")
             self._flat_timer.start()
         finally:
@@ -352,11 +297,10 @@ class WdvPanel(QScrollArea):
             reveal_maps(project.textures), project.skin_mesh(), current,
             project.pose(current.pose).positions, project.wdv.expression_factor,
             project.wdv.scale_free)
-        flagged = reveal is not None and reveal.flagged
-        self.flat_label.setText(f"“{current.name}” {reveal.reason()} at “{current.pose}”: "
-                                "select where the map has wrinkles, or choose another map."
-                                if flagged else "")
-        self.flat_label.setVisible(flagged)
+        text = flat_text(current.name, reveal.reason(), current.pose) \
+            if reveal is not None and reveal.flagged else ""
+        self.flat_label.setText(text)
+        self.flat_label.setVisible(bool(text))
 
     def _show_view(self) -> None:
         self.heat_check.blockSignals(True)
@@ -364,8 +308,7 @@ class WdvPanel(QScrollArea):
         self.heat_check.blockSignals(False)
 
     def _show_selection(self) -> None:
-        n = int(self.doc.selection.sum())
-        self.selection_label.setText(f"{n} of {len(self.doc.selection)} vertices selected")
+        self.selection_label.setText(selection_text(self.doc.selection))
 
     def tool_active(self, on: bool) -> None:
         if self.tool_button.isChecked() != on:
@@ -427,12 +370,8 @@ class WdvPanel(QScrollArea):
         areas = self.doc.project.wdv.areas
         if area is None:
             return
-        soloed = tuple(a is area for a in areas)
-        current = tuple(a.enabled for a in areas)
-        if current == soloed:
-            edits.set_enabled_all(self.doc, tuple(True for _ in areas), "Show all areas")
-        else:
-            edits.set_enabled_all(self.doc, soloed, f"Solo {area.name}")
+        edits.set_enabled_all(self.doc, *solo(tuple(a.enabled for a in areas),
+                                              areas.index(area), area.name))
 
     def _pose_chosen(self, index: int) -> None:
         area = self._area()
@@ -472,41 +411,6 @@ class WdvPanel(QScrollArea):
                                  (colour.red(), colour.green(), colour.blue()), "Colour")
 
     # --- selection -----------------------------------------------------------------------------
-    def _tool_toggled(self, on: bool) -> None:
-        action = getattr(self.tools, "select_action", None)
-        if action is not None and action.isChecked() != on:
-            action.setChecked(on)
-
-    def _set_mode(self, mode: str) -> None:
-        self.tools.tool.mode = mode
-        self.mode_buttons[mode].setChecked(True)
-        self._tool_toggled(True)
-
-    def _grow(self) -> None:
-        edits.set_selection(self.doc, sel.grow(self.doc.selection, self.tools.edges()), "Grow")
-
-    def _shrink(self) -> None:
-        edits.set_selection(self.doc, sel.shrink(self.doc.selection, self.tools.edges()),
-                            "Shrink")
-
-    def _invert(self) -> None:
-        edits.set_selection(self.doc, sel.invert(self.doc.selection), "Invert selection")
-
-    def _mirror(self) -> None:
-        edits.set_selection(self.doc, sel.mirror(self.doc.selection, self.tools.mirror_index()),
-                            "Mirror selection")
-
-    def _all(self) -> None:
-        edits.set_selection(self.doc, np.ones_like(self.doc.selection), "Select all")
-
-    def _none(self) -> None:
-        edits.set_selection(self.doc, np.zeros_like(self.doc.selection), "Select none")
-
-    def _from_area(self) -> None:
-        area = self._area()
-        if area is not None:
-            edits.set_selection(self.doc, area.authored.copy(), f"Select {area.name}")
-
     def _suggest(self) -> None:
         area = self._area()
         if area is None:
@@ -515,25 +419,18 @@ class WdvPanel(QScrollArea):
         hits = sel.suggest(project.mesh.rest, project.pose(area.pose).positions,
                            self.threshold.value() / 100.0)
         edits.set_selection(self.doc, hits, f"Suggest for {area.name}")
-        self._say(f"Suggested {int(hits.sum())} vertices that “{area.pose}” moves")
+        self._say(suggested_text(hits, area.pose))
 
     # --- vectors -------------------------------------------------------------------------------
     def _create(self) -> None:
         area = self._area()
-        if area is None:
-            self._say("Add an area first.", warning=True)
-            return
         n = int(self.doc.selection.sum())
-        if n == 0:
-            self._say("Select the vertices first (S, then drag over the face).", warning=True)
+        refused = create_refused(None if area is None else area.name, n)
+        if refused:
+            self._say(refused, warning=True)
             return
         still = edits.create_directions(self.doc, area)
-        made = n - len(still)
-        if len(still):
-            self._say(f"{len(still)} of the {n} selected vertices do not move in “{area.pose}”, "
-                      f"so they got no direction; {made} vectors created.", warning=True)
-        else:
-            self._say(f"{made} wrinkle direction vectors created for “{area.name}”.")
+        self._say(*created_text(n, len(still), area.name, area.pose))
 
     def _clear(self) -> None:
         area = self._area()
