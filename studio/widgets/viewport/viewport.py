@@ -15,7 +15,6 @@ Resolution While Moving turns it off (remembered).
 
 from __future__ import annotations
 
-import itertools
 import time
 
 import moderngl
@@ -37,9 +36,18 @@ from studio.render.reduced import (
 from studio.render.renderer import FaceRenderer
 from studio.render.scene import ProjectScene
 from studio.render.settings import render_settings
+from studio.render.viewport_targets import MsaaTarget, attach_to_current_context
 from studio.widgets.app_settings import settings
 from studio.widgets.document import Document
 from studio.widgets.viewport.technique_switch import TechniqueSwitch
+from studio.widgets.viewport.viewport_model import (
+    WHEEL_ZOOM,
+    camera_move,
+    navigation,
+    numpad_view,
+    reduced_note,
+    split_columns,
+)
 
 ANTI_ALIASING = (0, 2, 4, 8)  # samples per pixel offered (View ▸ Anti-Aliasing); 0: off
 DEFAULT_SAMPLES = 4
@@ -51,29 +59,8 @@ REPORT_MS = 500  # while moving, frame times are reported (frameRendered) this o
 # last GAPS moving frames' gaps: a pause of the hand lengthens a gap, never shortens one
 GAPS = 8
 REDUCE_KEY = "viewport/reduce_while_moving"
-
-
-def split_columns(width: int) -> list[tuple[int, int]]:
-    """x and width of each split-view pane."""
-    edges = [round(width * i / len(SPLIT)) for i in range(len(SPLIT) + 1)]
-    return [(a, b - a) for a, b in itertools.pairwise(edges)]
-
-
-def attach_to_current_context() -> moderngl.Context:
-    """A fresh moderngl context on the one Qt made current, whether Qt uses EGL or GLX.
-
-    (``moderngl.create_context`` detects through GLX only once a default context exists, which
-    fails for a second viewport when Qt runs on EGL; ``init_context`` always re-detects.)
-    """
-    try:
-        moderngl.init_context()
-        ctx = moderngl.get_context()
-    except Exception as exc:  # the GL loaders raise plain Exception
-        raise RenderError(f"OpenGL is not available, so the viewport cannot draw ({exc}). "
-                          "Update the graphics driver (or install Mesa).") from None
-    if ctx.version_code < 330:
-        raise RenderError(f"the viewport needs OpenGL 3.3; this driver offers {gl_version(ctx)}")
-    return ctx
+BUTTONS = {Qt.MouseButton.LeftButton: "left", Qt.MouseButton.MiddleButton: "middle"}
+NUMPAD = {Qt.Key.Key_1: "1", Qt.Key.Key_3: "3", Qt.Key.Key_7: "7"}
 
 
 class Viewport(QOpenGLWidget):
@@ -98,8 +85,7 @@ class Viewport(QOpenGLWidget):
         self.frames_rendered = 0
         self._relief_refused = False  # the fallback from displace to parallax was announced
         self.samples = DEFAULT_SAMPLES  # anti-aliasing: samples per pixel (0 or 1: off)
-        self._msaa: moderngl.Framebuffer | None = None  # drawn into, then resolved into Qt's
-        self._msaa_key: tuple[int, int, int] | None = None
+        self._msaa = MsaaTarget()  # drawn into, then resolved into Qt's
         # reduced drawing while moving (software renderers; see the module's docstring)
         self.software = False  # the context draws on the CPU (set once OpenGL is up)
         self.reduce_while_moving = settings().value(REDUCE_KEY, True, type=bool)
@@ -339,11 +325,7 @@ class Viewport(QOpenGLWidget):
         saying so with the first full-size frame. Not in the status bar: a pose change nobody's
         hand made (K keying, an undo) also draws reduced for a moment, and its words there
         replaced the message a person was reading ("Keyed …") and outlived the movement."""
-        text = None
-        if scale is not None and scale != SCALES[0]:
-            text = f"drawing at {scale} resolution while you move (software OpenGL)"
-        elif scale is not None and min(self.samples, self.max_samples) >= 2:
-            text = "drawing without anti-aliasing while you move (software OpenGL)"
+        text = reduced_note(scale, scale == SCALES[0], min(self.samples, self.max_samples))
         if text == self._said:
             return
         self._said = text
@@ -398,26 +380,9 @@ class Viewport(QOpenGLWidget):
         self.update()
 
     def _draw_target(self, w: int, h: int) -> moderngl.Framebuffer:
-        """Where this frame is drawn: Qt's framebuffer, or a multisampled one of the same size
-        (made again only when the size or the sample count changes)."""
-        samples = min(self.samples, self.max_samples)
-        if samples < 2:
-            return self._fbo
-        key = (w, h, samples)
-        if self._msaa_key != key:
-            self._release_msaa()
-            colour = self.ctx.renderbuffer((w, h), 4, samples=samples)
-            depth = self.ctx.depth_renderbuffer((w, h), samples=samples)
-            self._msaa = self.ctx.framebuffer([colour], depth)
-            self._msaa_key = key
-        return self._msaa
-
-    def _release_msaa(self) -> None:
-        if self._msaa is not None:
-            for attachment in (*self._msaa.color_attachments, self._msaa.depth_attachment):
-                attachment.release()
-            self._msaa.release()
-        self._msaa, self._msaa_key = None, None
+        """Where this frame is drawn: Qt's framebuffer, or a multisampled one of the same size."""
+        fbo = self._msaa.framebuffer(self.ctx, (w, h), min(self.samples, self.max_samples))
+        return self._fbo if fbo is None else fbo
 
     def _relief(self, relief: str) -> str:
         """The relief to draw: without OpenGL 4.0, "displace" falls back to parallax, once
@@ -456,16 +421,10 @@ class Viewport(QOpenGLWidget):
 
     # --- navigation ----------------------------------------------------------------------------
     def _navigation_for(self, event: QMouseEvent) -> str | None:
-        mods = event.modifiers()
-        button = event.button()
-        shift = bool(mods & Qt.KeyboardModifier.ShiftModifier)
-        if button == Qt.MouseButton.MiddleButton:
-            if mods & Qt.KeyboardModifier.ControlModifier:
-                return "zoom"
-            return "pan" if shift else "orbit"
-        if button == Qt.MouseButton.LeftButton and mods & Qt.KeyboardModifier.AltModifier:
-            return "pan" if shift else "orbit"
-        return None
+        mods, button = event.modifiers(), event.button()
+        return navigation(BUTTONS.get(button, ""), bool(mods & Qt.KeyboardModifier.ShiftModifier),
+                          bool(mods & Qt.KeyboardModifier.ControlModifier),
+                          bool(mods & Qt.KeyboardModifier.AltModifier))
 
     def mousePressEvent(self, event: QMouseEvent) -> None:
         mode = self._navigation_for(event)
@@ -486,13 +445,8 @@ class Viewport(QOpenGLWidget):
         pos = event.position().toPoint()
         dx, dy = pos.x() - last.x(), pos.y() - last.y()
         self._drag = (mode, pos)
-        cam = self.doc.camera
-        if mode == "orbit":
-            cam.orbit(-dx * 0.4, dy * 0.4)
-        elif mode == "pan":
-            cam.pan(-dx / max(self.height(), 1), dy / max(self.height(), 1))
-        else:
-            cam.zoom(1.01 ** dy)
+        move, args = camera_move(mode, dx, dy, self.height())
+        getattr(self.doc.camera, move)(*args)
         self.doc.cameraChanged.emit()
 
     def mouseReleaseEvent(self, event: QMouseEvent) -> None:
@@ -517,20 +471,19 @@ class Viewport(QOpenGLWidget):
 
     def wheelEvent(self, event: QWheelEvent) -> None:
         steps = event.angleDelta().y() / 120.0
-        self.doc.camera.zoom(0.85 ** steps)
+        self.doc.camera.zoom(WHEEL_ZOOM ** steps)
         self.doc.cameraChanged.emit()
 
     def keyPressEvent(self, event) -> None:
         key = event.key()
         keypad = bool(event.modifiers() & Qt.KeyboardModifier.KeypadModifier)
-        views = {Qt.Key.Key_1: (0.0, 0.0), Qt.Key.Key_3: (90.0, 0.0), Qt.Key.Key_7: (0.0, 89.0)}
+        view = numpad_view(NUMPAD.get(key, ""), bool(
+            event.modifiers() & Qt.KeyboardModifier.ControlModifier)) if keypad else None
         if key in (Qt.Key.Key_F, Qt.Key.Key_Home) or (keypad and key == Qt.Key.Key_Period):
             shift = event.modifiers() & Qt.KeyboardModifier.ShiftModifier
             (self.doc.frame_all if shift and key == Qt.Key.Key_Home else self.doc.frame_face)()
-        elif keypad and key in views:
-            self.doc.camera.yaw, self.doc.camera.pitch = views[key]
-            if event.modifiers() & Qt.KeyboardModifier.ControlModifier and key == Qt.Key.Key_3:
-                self.doc.camera.yaw = -90.0
+        elif view is not None:
+            self.doc.camera.yaw, self.doc.camera.pitch = view
             self.doc.cameraChanged.emit()
         else:
             super().keyPressEvent(event)
