@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from PySide6.QtCore import QSize, Qt, QTimer, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence, QShowEvent
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -13,8 +13,6 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QMenu,
     QMessageBox,
-    QScrollArea,
-    QTabWidget,
     QUndoView,
     QWidget,
 )
@@ -25,6 +23,14 @@ from studio.widgets.about import show_about
 from studio.widgets.app_settings import last_folder, settings
 from studio.widgets.autosave import install_autosave
 from studio.widgets.background import run_with_progress
+from studio.widgets.dock_layout import (  # noqa: F401  (TIMELINE_HEIGHT: for tests)
+    TIMELINE_HEIGHT,
+    add_dock,
+    arrange_docks,
+    arrange_for_painting,
+    default_dock_sizes,
+    raise_on_toggle,
+)
 from studio.widgets.dock_tabs import keep_dock_tab_words
 from studio.widgets.document import Document
 from studio.widgets.getting_started import install_getting_started
@@ -39,14 +45,17 @@ from studio.widgets.viewport.shading_panel import ShadingPanel
 from studio.widgets.viewport.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
 from studio.widgets.wdv.panel import install_wdv_tools
 from studio.widgets.wheel_guard import install_wheel_guard
+from studio.widgets.window_model import (
+    FRAME_TEXT,
+    frame_text,
+    recent_list,
+    save_folder,
+    window_title,
+    with_recent,
+    without_recent,
+)
 
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
-MAX_RECENT = 10
-# The default layout: these panels as tabs in one right-hand column, in this order.
-RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "UV Paint")
-FRAME_TEXT = "frame {:.1f} ms ({:.0f} FPS)"
-SIDE_WIDTH = 360  # pixels: the right-hand column (a pose slider gets 100 of them)
-TIMELINE_HEIGHT = 200  # pixels: the timeline strip under the viewport
 
 
 def sample_project() -> Project:
@@ -61,14 +70,6 @@ def _installed(path: Path) -> bool:
     from studio.paths import resource_dir
 
     return path.resolve().is_relative_to(resource_dir().resolve())
-
-
-class _ColumnPanel(QScrollArea):
-    """A panel of the right-hand column: asks for the column's width (so the window lays out
-    that way from its first frame) and scrolls what does not fit."""
-
-    def sizeHint(self) -> QSize:
-        return QSize(SIDE_WIDTH, super().sizeHint().height())
 
 
 class MainWindow(QMainWindow):
@@ -137,62 +138,16 @@ class MainWindow(QMainWindow):
         self.resize(round(area.width() * 0.9), round(area.height() * 0.9))
 
     def _arrange_docks(self) -> None:
-        """The default layout, as Blender and Substance Painter lay out theirs: every panel a
-        tab in one narrow column on the right and the timeline a short strip below the
-        viewport, so the face gets most of the window (History stays hidden on the left)."""
-        right = [self.docks[t] for t in RIGHT_TABS if t in self.docks]
-        # the tabs down the column's edge, as Blender's sidebar: every title reads in full
-        self.setTabPosition(Qt.DockWidgetArea.RightDockWidgetArea, QTabWidget.TabPosition.East)
-        for dock in right:
-            self.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
-            dock.setMinimumWidth(0)  # a panel may ask for room; the column's width is ours
-        for dock in right[1:]:
-            self.tabifyDockWidget(right[0], dock)
-        for dock in right:
-            self._raise_on_toggle(dock)
-        if right:
-            right[0].raise_()
-        self.addDockWidget(Qt.DockWidgetArea.LeftDockWidgetArea, self.docks["History"])
-        if "Timeline" in self.docks:
-            self.addDockWidget(Qt.DockWidgetArea.BottomDockWidgetArea, self.docks["Timeline"])
+        arrange_docks(self, self.docks)
 
     def _raise_on_toggle(self, dock: QDockWidget) -> None:
-        """A panel's toggle (View menu, toolbar) brings a panel that sits behind another tab
-        to the front instead of closing it, and raises a panel it opens."""
-        on_screen = {"now": False}  # in front of its tab group (a closed one keeps its last)
-        dock.visibilityChanged.connect(
-            lambda visible: None if dock.isHidden() else on_screen.update(now=visible))
-
-        def toggled(checked: bool) -> None:
-            if not checked and not on_screen["now"] and not dock.isFloating():
-                dock.show()  # it was open, behind another tab: the user asked to see it
-            if dock.isVisible():
-                dock.raise_()
-
-        dock.toggleViewAction().triggered.connect(toggled)
+        raise_on_toggle(dock)
 
     def _default_dock_sizes(self) -> None:
-        """The side column narrow and the timeline short (sizes apply only to a shown window)."""
-        shown = [d for t, d in self.docks.items() if t in RIGHT_TABS and not d.isHidden()]
-        if shown:
-            self.resizeDocks(shown[:1], [SIDE_WIDTH], Qt.Orientation.Horizontal)
-        if "Timeline" in self.docks:
-            self.resizeDocks([self.docks["Timeline"]], [TIMELINE_HEIGHT], Qt.Orientation.Vertical)
+        default_dock_sizes(self, self.docks)
 
     def _add_dock(self, title: str, widget: QWidget, area: Qt.DockWidgetArea) -> None:
-        dock = QDockWidget(title, self)
-        dock.setObjectName(f"dock:{title}")
-        if title in RIGHT_TABS and title != "UV Paint":  # (the canvas pans and zooms itself)
-            # narrower than it asks, a panel scrolls: the column stays put
-            scroll = _ColumnPanel()
-            scroll.setWidget(widget)
-            scroll.setWidgetResizable(True)
-            scroll.setFrameShape(QScrollArea.Shape.NoFrame)
-            dock.setWidget(scroll)
-        else:
-            dock.setWidget(widget)
-        self.addDockWidget(area, dock)
-        self.docks[title] = dock
+        add_dock(self, self.docks, title, widget, area)
 
     # --- menus ---------------------------------------------------------------------------------
     def _action(self, menu, text: str, slot, shortcut=None, tip: str = "") -> QAction:
@@ -301,11 +256,11 @@ class MainWindow(QMainWindow):
 
     # --- status --------------------------------------------------------------------------------
     def _update_title(self) -> None:
-        self.setWindowTitle(f"{self.doc.display_name}[*] — Wrinkle Studio")
+        self.setWindowTitle(window_title(self.doc.display_name))
         self.setWindowModified(self.doc.modified)
 
     def _show_frame_time(self, ms: float) -> None:
-        self._frame_label.setText(FRAME_TEXT.format(ms, 1000.0 / max(ms, 1e-3)))
+        self._frame_label.setText(frame_text(ms))
         if self.viewport.frames_rendered == 1:
             self.firstFrame.emit()
 
@@ -422,27 +377,22 @@ class MainWindow(QMainWindow):
         """Where Save As starts: the project's own folder; for a project not saved yet, the
         folder its mesh was read from (where the user keeps this character's files); else
         the last folder used."""
-        if self.doc.path is not None:
-            return str(Path(self.doc.path).parent)
         source = self.doc.project.mesh.source
-        if source and Path(source).parent.is_dir() and not _installed(Path(source)):
-            return str(Path(source).parent)
-        return self._last_folder()  # (the bundled sample's is the studio's own folder)
+        return save_folder(self.doc.path, source, bool(source) and _installed(Path(source)),
+                           self._last_folder())
 
     def recent_files(self) -> list[str]:
-        value = settings().value("recent_files", [])
-        return [value] if isinstance(value, str) else list(value or [])
+        return recent_list(settings().value("recent_files", []))
 
     def _remember_recent(self, path: Path) -> None:
         path = path.resolve()
-        files = [str(path), *(f for f in self.recent_files() if f != str(path))][:MAX_RECENT]
         s = settings()
-        s.setValue("recent_files", files)
+        s.setValue("recent_files", with_recent(self.recent_files(), str(path)))
         s.setValue("last_folder", str(path.parent))
 
     def _forget_recent(self, path: Path) -> None:
-        settings().setValue("recent_files",
-                            [f for f in self.recent_files() if f != str(path.resolve())])
+        settings().setValue("recent_files", without_recent(self.recent_files(),
+                                                           str(path.resolve())))
 
     def _fill_recent_menu(self) -> None:
         self.recent_menu.clear()
@@ -484,14 +434,7 @@ class MainWindow(QMainWindow):
         a stroke lasts), and the Areas panel, with the brush and the area's links, in front on
         the right."""
         self.reset_layout()
-        canvas = self.docks["UV Paint"]
-        self.addDockWidget(Qt.DockWidgetArea.LeftDockWidgetArea, canvas)  # out of the tabs
-        canvas.show()
-        self.docks["Areas"].show()
-        self.docks["Areas"].raise_()
-        self.layout().activate()
-        side = self.docks["Areas"].width()
-        self.resizeDocks([canvas], [(self.width() - side) // 2], Qt.Orientation.Horizontal)
+        arrange_for_painting(self, self.docks)
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if not self.maybe_save():
