@@ -22,6 +22,7 @@ from studio.core.files.errors import ImageError, MeshError, StudioError
 from studio.core.files.images import decode_image, decoded_bytes
 from studio.core.files.safe_io import read_regular
 from studio.core.project.gltf_face import FaceChoice
+from studio.core.project.gltf_materials import _rgb
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
@@ -62,18 +63,12 @@ class HeadMaps:
     diffuse: Array | None = None
     normal: Array | None = None
     lines: list[str] = field(default_factory=list)
+    files: dict[str, Path] = field(default_factory=dict)  # slot -> the file it was read from
 
     def textures(self) -> FaceTextures:
         """The project's maps: the file's where it gave them, plain skin and flat otherwise."""
-        return FaceTextures(_rgb(self.diffuse) if self.diffuse is not None else plain_diffuse(),
-                            _rgb(self.normal) if self.normal is not None
-                            else flat_normal_map(), flat_normal_map())
-
-
-def _rgb(image: Array) -> Array:
-    if image.ndim == 2:
-        image = np.repeat(image[:, :, None], 3, axis=2)
-    return np.ascontiguousarray(image[:, :, :3])
+        return FaceTextures(_rgb(self.diffuse, plain_diffuse()),
+                            _rgb(self.normal, flat_normal_map()), flat_normal_map())
 
 
 def skin_part(choice: FaceChoice, primitive_of_triangle: Array) -> int:
@@ -94,31 +89,33 @@ def read_head_maps(sources: dict[str, MapSource | None], material: str, origin: 
         if source is None:
             continue
         word, fallback = SLOTS[slot]
-        image, line = _read(source, f"{word}: texture {source.written} of material "
-                            f"{material or '(unnamed)'}", fallback, origin, budget)
+        image, line, file = _read(source, f"{word}: texture {source.written} of material "
+                                  f"{material or '(unnamed)'}", fallback, budget)
         setattr(maps, slot, image)
         maps.lines.append(line)
+        if file is not None and image is not None:
+            maps.files[slot] = file
     return maps
 
 
-def _read(source: MapSource, said: str, fallback: str, origin: object,
-          budget: ImageBudget) -> tuple[Array | None, str]:
-    """One map's pixels and its report line."""
-    data, where = source.data, "embedded in the file"
+def _read(source: MapSource, said: str, fallback: str, budget: ImageBudget
+          ) -> tuple[Array | None, str, Path | None]:
+    """One map's pixels, its report line and the file it came from (None: embedded)."""
+    data, where, found = source.data, "embedded in the file", None
     if not data:
         found = next((p for p in source.paths if p.is_file()), None)
         if found is None:
             tried = ", ".join(dict.fromkeys(str(p) for p in source.paths)) or "no path given"
-            return None, f"{said} not found (looked for {tried}): {fallback}"
+            return None, f"{said} not found (looked for {tried}): {fallback}", None
         try:
             data = read_regular(found, FILE_BYTES.value, ImageError, "texture",
                                 FILE_BYTES.setting)
         except StudioError as exc:
-            return None, f"{said} cannot be read ({exc.problem}): {fallback}"
+            return None, f"{said} cannot be read ({exc.problem}): {fallback}", None
         where = str(found)
     budget.take(data, f"texture {source.written}")
     try:
         image = decode_image(data, where)
     except ImageError as exc:
-        return None, f"{said} is unreadable ({exc.problem}): {fallback}"
-    return image, f"{said} ({where}, {image.shape[1]}×{image.shape[0]})"
+        return None, f"{said} is unreadable ({exc.problem}): {fallback}", None
+    return image, f"{said} ({where}, {image.shape[1]}×{image.shape[0]})", found
