@@ -252,7 +252,7 @@ def not_face_vertices(mesh: FaceMesh, names: Collection[str], kind: str | None =
 def obj_materials(mesh: FaceMesh) -> tuple[list[str], list[str], Array] | None:
     """An OBJ mesh's ``mtllib`` lines as written, its material names and the material of each
     triangle (index into the names; the mesh's own triangles, in order): what finds the skin's
-    textures (core/project/obj_maps.py). None for a mesh not read from an OBJ, or one that
+    textures (core/formats/obj_maps.py). None for a mesh not read from an OBJ, or one that
     names no material."""
     info = _OBJ_INFO.get(mesh)
     if info is None or "material" not in info.data.labels:

@@ -21,8 +21,8 @@ from studio.core.files.budgets import FILE_BYTES, GLTF_IMAGE_BYTES, IMAGE_BYTES
 from studio.core.files.errors import ImageError, MeshError, StudioError
 from studio.core.files.images import decode_image, decoded_bytes
 from studio.core.files.safe_io import read_regular
-from studio.core.project.gltf_face import FaceChoice
-from studio.core.project.gltf_materials import _rgb
+from studio.core.formats.gltf.face import FaceChoice
+from studio.core.formats.gltf.materials import _rgb
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray

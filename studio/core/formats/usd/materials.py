@@ -18,7 +18,7 @@ import numpy as np
 from studio.core.files.budgets import FILE_BYTES
 from studio.core.files.errors import MeshError
 from studio.core.files.images import decode_image
-from studio.core.project.head_maps import ImageBudget
+from studio.core.formats.head_maps import ImageBudget
 
 Array = np.ndarray
 PREVIEW_SURFACE = "UsdPreviewSurface"

@@ -6,7 +6,7 @@ left out). Its normal map is what Blender's OBJ exporter writes and importer rea
 ``map_Bump`` (or ``bump``), or ``norm``. Options before a file name (``-bm 1.0``, ``-o u v w``,
 ``-clamp on``) are skipped; a name may hold spaces. Texture paths are relative to the ``.mtl``
 (Blender also looks beside it by the file's name, for a folder moved without its textures).
-A library or texture that is missing is said in the report (core/project/head_maps.py), never
+A library or texture that is missing is said in the report (core/formats/head_maps.py), never
 refused: the head opens in plain skin.
 """
 
@@ -19,9 +19,9 @@ import numpy as np
 from studio.core.files.budgets import FILE_BYTES
 from studio.core.files.errors import StudioError
 from studio.core.files.safe_io import read_regular
+from studio.core.formats.head_maps import HeadMaps, MapSource, read_head_maps
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.meshio import obj_materials
-from studio.core.project.head_maps import HeadMaps, MapSource, read_head_maps
 
 Array = np.ndarray
 # the statement that names each map, as the .mtl writes it (lower case)
