@@ -23,12 +23,9 @@ from studio.core.files.images import decode_image, decoded_bytes
 from studio.core.files.safe_io import read_regular
 from studio.core.formats.gltf.face import FaceChoice
 from studio.core.formats.gltf.materials import _rgb
-from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
+from studio.core.wrinkles.textures import MAP_WORDS, FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
-# what a map is called in the report, and what the head shows without it
-SLOTS = {"diffuse": ("diffuse map", "plain skin colour"),
-         "normal": ("normal map", "a flat normal map")}
 
 
 class ImageBudget:
@@ -88,7 +85,7 @@ def read_head_maps(sources: dict[str, MapSource | None], material: str, origin: 
     for slot, source in sources.items():
         if source is None:
             continue
-        word, fallback = SLOTS[slot]
+        word, fallback = MAP_WORDS[slot]
         image, line, file = _read(source, f"{word}: texture {source.written} of material "
                                   f"{material or '(unnamed)'}", fallback, budget)
         setattr(maps, slot, image)
