@@ -1,0 +1,104 @@
+"""Synthesised wrinkled maps made again when their poses' furrow controls change, fast enough to
+follow a slider.
+
+A map's record (``FurrowSettings.maps``) names the poses it was synthesised from and the options;
+laying one pose's furrows out (its strain, phase and anatomy's place) is the slow part, and only
+its spacing changes it, so each pose's field is kept per spacing: a depth or sharpness drag, and
+every other pose of the map, cost only the composition and the normal map. A map the user
+replaced since it was synthesised (its ``digest`` no longer matches) is left alone.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from studio.core.project.model import Project
+from studio.core.setup.anatomy import FacePlaces
+from studio.core.setup.wrinkle_synth import (
+    FurrowField,
+    SynthOptions,
+    face_places,
+    grouped_maps,
+    pose_fields,
+)
+from studio.core.wrinkles.furrow_controls import map_digest
+
+Array = np.ndarray
+_Key = tuple[int, str, int, float, int, float, float]  # see ``FurrowMaps._key``
+
+
+class FurrowMaps:
+    """Remakes one project's synthesised maps, keeping each pose's fields between calls."""
+
+    def __init__(self) -> None:
+        self._fields: dict[_Key, FurrowField] = {}
+        self._places: tuple[int, int, FacePlaces] | None = None  # the face's, by identity
+
+    def remake(self, project: Project, names: Sequence[str]) -> list[str]:
+        """Make the named synthesised maps again with the current controls, in place (the
+        texture and its record's digest); returns those that changed."""
+        changed = []
+        for name in names:
+            image = self.made(project, name)
+            if image is None:
+                continue
+            record = project.furrows.maps[name]
+            old = project.textures.wrinkle_maps[name]
+            if image.shape == old.shape and np.array_equal(image, old):
+                continue
+            project.textures.set_wrinkle_map(name, image)
+            project.furrows.maps[name] = type(record)(record.poses, record.spacing,
+                                                      record.depth, record.anatomy,
+                                                      map_digest(image))
+            changed.append(name)
+        return changed
+
+    def made(self, project: Project, name: str) -> Array | None:
+        """The named map as its record and the current controls make it; None when it has no
+        record, or the map was replaced since it was synthesised."""
+        record = project.furrows.maps.get(name)
+        image = project.textures.wrinkle_maps.get(name)
+        if record is None or image is None or (record.digest
+                                               and map_digest(image) != record.digest):
+            return None
+        known = {p.name for p in project.poses}
+        poses = [p for p in record.poses if p in known]
+        options = SynthOptions(size=int(image.shape[0]), spacing=record.spacing,
+                               depth=record.depth)
+        controls = [project.furrows.of(p) for p in poses]
+        keys = [self._key(project, p, c.spacing, options) for p, c in zip(poses, controls,
+                                                                         strict=True)]
+        missing = [i for i, key in enumerate(keys) if key not in self._fields]
+        if missing:
+            fields = pose_fields(project, [poses[i] for i in missing], options,
+                                 [controls[i] for i in missing], places=self.places(project))
+            for i, field in zip(missing, fields or [], strict=True):
+                self._fields[keys[i]] = field
+        fields = [self._fields[key] for key in keys]
+        self._forget(keys)
+        return grouped_maps(fields, controls, options, [list(range(len(fields)))],
+                            project.textures.normal_neutral)[0]
+
+    def places(self, project: Project) -> FacePlaces:
+        """The face's places, found once per face (its mesh and not-face flags)."""
+        skin = id(project.not_face)
+        if self._places is None or self._places[:2] != (id(project.mesh), skin):
+            self._places = (id(project.mesh), skin, face_places(project))
+        return self._places[2]
+
+    @staticmethod
+    def _key(project: Project, pose: str, spacing: float, options: SynthOptions) -> _Key:
+        """What a pose's field depends on: the face (its mesh and pose shape, by identity:
+        a new import is a new object), the pose, the map's size and options, its spacing."""
+        return (id(project.mesh), pose, id(project.pose(pose).positions), spacing,
+                options.size, options.spacing, options.depth)
+
+    def _forget(self, keep: Sequence[_Key]) -> None:
+        """Drop the fields of these poses at spacings no longer in use (a drag's earlier
+        ticks); other maps' poses keep theirs."""
+        wanted = set(keep)
+        poses = {key[1] for key in keep}
+        for key in [k for k in self._fields if k not in wanted and k[1] in poses]:
+            del self._fields[key]
