@@ -11,6 +11,7 @@ replaced since it was synthesised (its ``digest`` no longer matches) is left alo
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -34,35 +35,58 @@ class FurrowMaps:
 
     def __init__(self) -> None:
         self._fields: dict[_Key, FurrowField] = {}
+        self._made_with: dict[str, tuple] = {}  # map -> (its digest, its poses' controls)
         self._places: tuple[int, int, FacePlaces] | None = None  # the face's, by identity
+
+    def adopt(self, project: Project) -> None:
+        """Take the project's maps as made with its controls, as a project file holds them
+        together: only a later change of a pose's controls makes its maps again (not every
+        map, on the first change, to find it unchanged)."""
+        self._made_with = {name: self._made_key(project, name) for name in project.furrows.maps}
+
+    @staticmethod
+    def _made_key(project: Project, name: str) -> tuple:
+        record = project.furrows.maps[name]
+        return record.digest, tuple(project.furrows.of(p) for p in record.poses)
 
     def remake(self, project: Project, names: Sequence[str]) -> list[str]:
         """Make the named synthesised maps again with the current controls, in place (the
         texture and its record's digest); returns those that changed."""
         changed = []
         for name in names:
+            if name not in project.furrows.maps:
+                continue
+            made_with = self._made_key(project, name)
+            if self._made_with.get(name) == made_with:
+                continue  # the same controls as when it was last made: the same map
             image = self.made(project, name)
             if image is None:
                 continue
             record = project.furrows.maps[name]
             old = project.textures.wrinkle_maps[name]
-            if image.shape == old.shape and np.array_equal(image, old):
-                continue
-            project.textures.set_wrinkle_map(name, image)
-            project.furrows.maps[name] = type(record)(record.poses, record.spacing,
-                                                      record.depth, record.anatomy,
-                                                      map_digest(image))
-            changed.append(name)
+            if image.shape != old.shape or not np.array_equal(image, old):
+                project.textures.set_wrinkle_map(name, image)
+                record = replace(record, digest=map_digest(image))
+                project.furrows.maps[name] = record
+                changed.append(name)
+            self._made_with[name] = (record.digest, made_with[1])
         return changed
+
+    @staticmethod
+    def is_synthesised(project: Project, name: str) -> bool:
+        """Whether the named map has a record and is still the map last synthesised."""
+        record = project.furrows.maps.get(name)
+        image = project.textures.wrinkle_maps.get(name)
+        return record is not None and image is not None and (
+            not record.digest or map_digest(image) == record.digest)
 
     def made(self, project: Project, name: str) -> Array | None:
         """The named map as its record and the current controls make it; None when it has no
         record, or the map was replaced since it was synthesised."""
-        record = project.furrows.maps.get(name)
-        image = project.textures.wrinkle_maps.get(name)
-        if record is None or image is None or (record.digest
-                                               and map_digest(image) != record.digest):
+        if not self.is_synthesised(project, name):
             return None
+        record = project.furrows.maps[name]
+        image = project.textures.wrinkle_maps[name]
         known = {p.name for p in project.poses}
         poses = [p for p in record.poses if p in known]
         options = SynthOptions(size=int(image.shape[0]), spacing=record.spacing,

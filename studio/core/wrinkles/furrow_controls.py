@@ -133,13 +133,15 @@ class FurrowSettings:
         return self.all if pose is None else self.poses.get(pose, DEFAULT)
 
     def with_controls(self, pose: str | None, controls: FurrowControls) -> FurrowSettings:
-        """A copy with ``pose``'s (None: all poses') controls replaced."""
+        """A copy with ``pose``'s (None: all poses') controls replaced. It shares the maps'
+        records: they follow the maps (each remade map's digest), not the controls, so the
+        settings an undo brings back know the map the controls made since."""
         if pose is None:
-            return replace(self, poses=dict(self.poses), maps=dict(self.maps), all=controls)
+            return replace(self, poses=dict(self.poses), all=controls)
         poses = {k: v for k, v in self.poses.items() if k != pose}
         if not controls.is_default:
             poses[pose] = controls
-        return replace(self, poses=poses, maps=dict(self.maps))
+        return replace(self, poses=poses)
 
     def pruned(self, poses: Iterable[str], maps: Iterable[str]) -> FurrowSettings:
         """A copy without the controls of poses, and the records of maps, that are gone
