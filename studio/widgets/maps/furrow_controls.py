@@ -1,0 +1,188 @@
+"""The Furrows panel: depth, spacing and sharpness of the synthesised furrows, for all poses or
+one, live in the viewport (issue 45, point 6).
+
+Each control is a factor (1 = as synthesised, the look the blind review scored best). A slider
+drag is one undo step (a ``ValueCommand`` merged by its gesture), a typed value with Return one
+more; the document keeps the controls (``Project.furrows``), saved with the project. A change
+makes again only the synthesised maps that hold the changed pose's furrows
+(``core.setup.furrow_maps``), once per turn of the event loop however many slider ticks came:
+the viewport follows the drag. Undo restores the controls, and the maps follow them back.
+"""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, QTimer
+from PySide6.QtWidgets import QApplication, QComboBox, QLabel, QPushButton, QVBoxLayout, QWidget
+
+from studio.core.files.errors import StudioError
+from studio.core.setup.furrow_maps import FurrowMaps
+from studio.core.wrinkles.furrow_controls import LABELS, RANGES, FurrowControls, FurrowSettings
+from studio.widgets.commands import ValueCommand
+from studio.widgets.document import Document
+from studio.widgets.slider_row import SliderRow, fit_labels
+
+ALL_POSES = "All poses"
+TIPS = {"depth": "How deep the furrows run (their walls steepen, never past 35°)",
+        "spacing": "How far apart neighbouring furrows lie: 2 × gives half as many lines",
+        "sharpness": "How narrow each furrow is between the flat skin beside it"}
+
+
+class FurrowPanel(QWidget):
+    """A pose chooser, a slider row per control, and Reset."""
+
+    def __init__(self, doc: Document, parent: QWidget | None = None) -> None:
+        super().__init__(parent)
+        self.doc = doc
+        self.maps = FurrowMaps()
+        self._remake_pending = False
+        layout = QVBoxLayout(self)
+        intro = QLabel("Shape the furrows of the wrinkled maps synthesised from the poses "
+                       "(×1: as synthesised).")
+        intro.setWordWrap(True)
+        layout.addWidget(intro)
+        self.pose = QComboBox()
+        self.pose.setObjectName("furrows:pose")
+        self.pose.setToolTip("The pose whose furrows the sliders shape; its own factors apply "
+                             "on top of those for all poses")
+        self.pose.currentIndexChanged.connect(lambda _: self._show())
+        layout.addWidget(self.pose)
+        self.rows: dict[str, SliderRow] = {}
+        for name in RANGES:
+            low, high = RANGES[name]
+            row = SliderRow(LABELS[name], low, high, decimals=2, suffix=" ×")
+            row.setToolTip(TIPS[name])
+            row.edited.connect(lambda value, gesture, n=name: self._edit(n, value, gesture))
+            self.rows[name] = row
+            layout.addWidget(row)
+        fit_labels(list(self.rows.values()))
+        self.reset = QPushButton("Reset to as synthesised")
+        self.reset.clicked.connect(self._reset)
+        layout.addWidget(self.reset)
+        self.status = QLabel()
+        self.status.setWordWrap(True)
+        layout.addWidget(self.status)
+        layout.addStretch(1)
+        doc.furrowsChanged.connect(self._changed)
+        doc.projectReplaced.connect(self._adopt)
+        doc.posesChanged.connect(self._fill_poses)
+        doc.texturesChanged.connect(self._show)
+        self._adopt()
+
+    def _adopt(self) -> None:
+        """A project opened: its maps are as its controls made them."""
+        self.maps.adopt(self.doc.project)
+        self._fill_poses()
+
+    # --- what is shown ---------------------------------------------------------------------
+    def chosen(self) -> str | None:
+        """The pose the sliders shape; None: all poses."""
+        return self.pose.currentData()
+
+    def _fill_poses(self) -> None:
+        """All poses, then each pose whose furrows a synthesised map holds, in the face's
+        order; the chosen one kept when it is still there."""
+        chosen = self.chosen()
+        recorded = {p for record in self.doc.project.furrows.maps.values() for p in record.poses}
+        self.pose.blockSignals(True)
+        self.pose.clear()
+        self.pose.addItem(ALL_POSES, None)
+        for pose in self.doc.project.poses:
+            if pose.name in recorded:
+                self.pose.addItem(pose.name, pose.name)
+        self.pose.setCurrentIndex(max(self.pose.findData(chosen), 0))
+        self.pose.blockSignals(False)
+        self._show()
+
+    def _show(self) -> None:
+        furrows = self.doc.project.furrows
+        controls = furrows.controls(self.chosen())
+        for name, row in self.rows.items():
+            row.set_value(getattr(controls, name))
+        maps = self._live_maps()
+        enabled = bool(maps)
+        for widget in (self.pose, *self.rows.values(), self.reset):
+            widget.setEnabled(enabled)
+        if not furrows.maps:
+            self.status.setText("No wrinkled map here was synthesised from the poses: New "
+                                "from Files (or wrinkle-studio new --auto) synthesises them "
+                                "for a face that came without one.")
+        elif not enabled:
+            self.status.setText("The synthesised maps were replaced since: the controls leave "
+                                "them as they are.")
+        else:
+            self.status.setText("Shapes the wrinkled map" + ("s " if len(maps) > 1 else " ")
+                                + ", ".join(f"“{m}”" for m in maps) + ".")
+
+    def _live_maps(self) -> list[str]:
+        """The maps the chosen pose's controls shape that are still as synthesised."""
+        project = self.doc.project
+        wanted = project.furrows.maps_of(self.chosen())
+        return [name for name in wanted if self.maps.is_synthesised(project, name)]
+
+    # --- edits -----------------------------------------------------------------------------
+    def _edit(self, name: str, value: float, gesture: int | None) -> None:
+        pose = self.chosen()
+        current = self.doc.project.furrows.controls(pose)
+        controls = FurrowControls(**{**current.to_dict(), name: float(value)})
+        label = LABELS[name].lower()
+        push_furrows(self.doc, self.doc.project.furrows.with_controls(pose, controls),
+                     f"Furrow {label} of {pose or 'all poses'}",
+                     None if gesture is None else ("furrows", pose, name, gesture))
+
+    def _reset(self) -> None:
+        pose = self.chosen()
+        push_furrows(self.doc, self.doc.project.furrows.with_controls(pose, FurrowControls()),
+                     f"Reset the furrows of {pose or 'all poses'}", None)
+
+    def _changed(self) -> None:
+        """Show the controls now; make the maps again once the event loop is free (a drag's
+        ticks in between collapse into one)."""
+        self._show()
+        if not self._remake_pending:
+            self._remake_pending = True
+            QTimer.singleShot(0, self._remake)
+
+    def _remake(self) -> None:
+        self._remake_pending = False
+        project = self.doc.project
+        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+        try:  # (the first change of a map's poses lays their furrows out: a few seconds)
+            changed = self.maps.remake(project, list(project.furrows.maps))
+        except StudioError as exc:
+            self.window().show_error("Cannot make the furrows again", exc)
+            return
+        finally:
+            QApplication.restoreOverrideCursor()
+        if changed:
+            self.doc.texturesChanged.emit()
+
+
+def push_furrows(doc: Document, settings: FurrowSettings, text: str, merge_key) -> None:
+    """The project's furrow settings replaced as an undo step (merged by ``merge_key``:
+    one step per slider drag); nothing when they are the same."""
+    def read() -> FurrowSettings:
+        return doc.project.furrows
+
+    def apply(value: FurrowSettings) -> None:
+        doc.project.furrows = value
+        doc.furrowsChanged.emit()
+
+    if _same(read(), settings):
+        return
+    doc.undo_stack.push(ValueCommand(text, read, apply, settings, merge_key))
+
+
+def _same(a: FurrowSettings, b: FurrowSettings) -> bool:
+    return a.all == b.all and a.poses == b.poses
+
+
+def install_furrow_controls(window) -> FurrowPanel:
+    """The "Furrows" dock in the right-hand column, and Maps ▸ Furrow Controls to raise it."""
+    panel = FurrowPanel(window.doc)
+    window._add_dock("Furrows", panel, Qt.DockWidgetArea.RightDockWidgetArea)
+    dock = window.docks["Furrows"]
+    action = window.menus["Maps"].addAction("Furrow Controls")
+    action.setStatusTip("Depth, spacing and sharpness of the synthesised furrows, per pose")
+    action.triggered.connect(lambda: (dock.show(), dock.raise_()))
+    window.furrow_panel = panel
+    return panel
