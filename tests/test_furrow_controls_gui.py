@@ -14,7 +14,7 @@ from PySide6.QtCore import QPoint, Qt
 from PySide6.QtWidgets import QFileDialog, QSlider, QStyle, QStyleOptionSlider
 
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from studio.core.setup.auto_setup import auto_start
 from studio.core.wrinkles.influence import InfluenceSetup
 from studio.core.wrinkles.textures import flat_normal_map
