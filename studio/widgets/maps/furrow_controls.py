@@ -5,8 +5,8 @@ Each control is a factor (1 = as synthesised, the look the blind review scored b
 drag is one undo step (a ``ValueCommand`` merged by its gesture), a typed value with Return one
 more; the document keeps the controls (``Project.furrows``), saved with the project. A change
 makes again only the synthesised maps that hold the changed pose's furrows
-(``core.setup.furrow_maps``), once per turn of the event loop however many slider ticks came:
-the viewport follows the drag. Undo restores the controls, and the maps follow them back.
+(``core.setup.furrow_maps``) as soon as the controls rest a moment, however many slider ticks
+came: the viewport follows the drag. Undo restores the controls, and the maps follow them back.
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ from studio.widgets.document import Document
 from studio.widgets.slider_row import SliderRow, fit_labels
 
 ALL_POSES = "All poses"
+REMAKE_AFTER_MS = 60  # a pause in a drag this long shows its furrows
 TIPS = {"depth": "How deep the furrows run (their walls steepen, never past 35°)",
         "spacing": "How far apart neighbouring furrows lie: 2 × gives half as many lines",
         "sharpness": "How narrow each furrow is between the flat skin beside it"}
@@ -34,7 +35,12 @@ class FurrowPanel(QWidget):
         super().__init__(parent)
         self.doc = doc
         self.maps = FurrowMaps()
-        self._remake_pending = False
+        # the maps are made again once the controls rest a moment: a drag's ticks, held arrow
+        # keys or a turn of the wheel make them once, not once each
+        self._remake_timer = QTimer(self)
+        self._remake_timer.setSingleShot(True)
+        self._remake_timer.setInterval(REMAKE_AFTER_MS)
+        self._remake_timer.timeout.connect(self._remake)
         layout = QVBoxLayout(self)
         intro = QLabel("Shape the furrows of the wrinkled maps synthesised from the poses "
                        "(×1: as synthesised).")
@@ -135,15 +141,11 @@ class FurrowPanel(QWidget):
                      f"Reset the furrows of {pose or 'all poses'}", None)
 
     def _changed(self) -> None:
-        """Show the controls now; make the maps again once the event loop is free (a drag's
-        ticks in between collapse into one)."""
+        """Show the controls now; make the maps again once they rest (``REMAKE_AFTER_MS``)."""
         self._show()
-        if not self._remake_pending:
-            self._remake_pending = True
-            QTimer.singleShot(0, self._remake)
+        self._remake_timer.start()
 
     def _remake(self) -> None:
-        self._remake_pending = False
         project = self.doc.project
         QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
         try:  # (the first change of a map's poses lays their furrows out: a few seconds)
