@@ -10,7 +10,7 @@ replaced since it was synthesised (its ``digest`` no longer matches) is left alo
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -24,7 +24,7 @@ from studio.core.setup.wrinkle_synth import (
     grouped_maps,
     pose_fields,
 )
-from studio.core.wrinkles.furrow_controls import map_digest
+from studio.core.wrinkles.furrow_controls import FurrowSettings, map_digest
 
 Array = np.ndarray
 _Key = tuple[int, str, int, float, int, float, float]  # see ``FurrowMaps._key``
@@ -49,18 +49,37 @@ class FurrowMaps:
         record = project.furrows.maps[name]
         return record.digest, tuple(project.furrows.of(p) for p in record.poses)
 
-    def remake(self, project: Project, names: Sequence[str]) -> list[str]:
-        """Make the named synthesised maps again with the current controls, in place (the
-        texture and its record's digest); returns those that changed."""
-        changed = []
+    def pending(self, project: Project) -> dict[str, tuple]:
+        """{map: what it is to be made with} for the synthesised maps whose poses' controls
+        changed since they were last made (and that the user has not replaced since)."""
+        out = {}
+        for name in project.furrows.maps:
+            key = self._made_key(project, name)
+            if self._made_with.get(name) != key and self.is_synthesised(project, name):
+                out[name] = key
+        return out
+
+    def make(self, project: Project, settings: FurrowSettings, names: Sequence[str],
+             stop: Callable[[], bool] | None = None) -> dict[str, Array] | None:
+        """The named maps as ``settings`` (a snapshot of the project's) make them. Nothing in
+        the project changes, so the GUI runs this off its thread while the person drags on;
+        None if ``stop`` said so (checked after each pose's furrows are laid out)."""
+        out = {}
         for name in names:
-            if name not in project.furrows.maps:
-                continue
-            made_with = self._made_key(project, name)
-            if self._made_with.get(name) == made_with:
-                continue  # the same controls as when it was last made: the same map
-            image = self.made(project, name)
-            if image is None:
+            image = self.made(project, name, settings, stop)
+            if stop is not None and stop():
+                return None
+            if image is not None:
+                out[name] = image
+        return out
+
+    def apply(self, project: Project, made: Mapping[str, tuple[Array, tuple]]) -> list[str]:
+        """Put maps ``make`` made ({map: (image, what ``pending`` said it is made with)})
+        into the project, unless the user replaced the map meanwhile; returns those that
+        changed."""
+        changed = []
+        for name, (image, key) in made.items():
+            if not self.is_synthesised(project, name):
                 continue
             record = project.furrows.maps[name]
             old = project.textures.wrinkle_maps[name]
@@ -69,8 +88,16 @@ class FurrowMaps:
                 record = replace(record, digest=map_digest(image))
                 project.furrows.maps[name] = record
                 changed.append(name)
-            self._made_with[name] = (record.digest, made_with[1])
+            self._made_with[name] = (record.digest, key[1])
         return changed
+
+    def remake(self, project: Project, names: Sequence[str]) -> list[str]:
+        """Make the named synthesised maps again with the current controls, in place (the
+        texture and its record's digest), those whose controls changed only; returns those
+        that changed."""
+        todo = {n: k for n, k in self.pending(project).items() if n in names}
+        made = self.make(project, project.furrows, list(todo)) or {}
+        return self.apply(project, {n: (image, todo[n]) for n, image in made.items()})
 
     @staticmethod
     def is_synthesised(project: Project, name: str) -> bool:
@@ -80,25 +107,31 @@ class FurrowMaps:
         return record is not None and image is not None and (
             not record.digest or map_digest(image) == record.digest)
 
-    def made(self, project: Project, name: str) -> Array | None:
-        """The named map as its record and the current controls make it; None when it has no
-        record, or the map was replaced since it was synthesised."""
+    def made(self, project: Project, name: str, settings: FurrowSettings | None = None,
+             stop: Callable[[], bool] | None = None) -> Array | None:
+        """The named map as its record and the controls (``settings``, by default the
+        project's) make it; None when it has no record, the map was replaced since it was
+        synthesised, or ``stop`` said so."""
         if not self.is_synthesised(project, name):
             return None
-        record = project.furrows.maps[name]
+        settings = settings or project.furrows
+        record = settings.maps[name]
         image = project.textures.wrinkle_maps[name]
         known = {p.name for p in project.poses}
         poses = [p for p in record.poses if p in known]
         options = SynthOptions(size=int(image.shape[0]), spacing=record.spacing,
                                depth=record.depth)
-        controls = [project.furrows.of(p) for p in poses]
+        controls = [settings.of(p) for p in poses]
         keys = [self._key(project, p, c.spacing, options) for p, c in zip(poses, controls,
                                                                          strict=True)]
         missing = [i for i, key in enumerate(keys) if key not in self._fields]
         if missing:
             fields = pose_fields(project, [poses[i] for i in missing], options,
-                                 [controls[i] for i in missing], places=self.places(project))
-            for i, field in zip(missing, fields or [], strict=True):
+                                 [controls[i] for i in missing], places=self.places(project),
+                                 progress=None if stop is None else lambda *_: not stop())
+            if fields is None:
+                return None
+            for i, field in zip(missing, fields, strict=True):
                 self._fields[keys[i]] = field
         fields = [self._fields[key] for key in keys]
         self._forget(keys)

@@ -11,10 +11,15 @@ came: the viewport follows the drag. Undo restores the controls, and the maps fo
 
 from __future__ import annotations
 
-from PySide6.QtCore import Qt, QTimer
+import contextlib
+from concurrent.futures import Future, ThreadPoolExecutor
+from functools import partial
+
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import QApplication, QComboBox, QLabel, QPushButton, QVBoxLayout, QWidget
 
 from studio.core.files.errors import StudioError
+from studio.core.project.model import Project
 from studio.core.setup.furrow_maps import FurrowMaps
 from studio.core.wrinkles.furrow_controls import LABELS, RANGES, FurrowControls, FurrowSettings
 from studio.widgets.commands import ValueCommand
@@ -31,6 +36,8 @@ TIPS = {"depth": "How deep the furrows run (their walls steepen, never past 35°
 class FurrowPanel(QWidget):
     """A pose chooser, a slider row per control, and Reset."""
 
+    _ready = Signal()  # a job making maps ended
+
     def __init__(self, doc: Document, parent: QWidget | None = None) -> None:
         super().__init__(parent)
         self.doc = doc
@@ -41,6 +48,14 @@ class FurrowPanel(QWidget):
         self._remake_timer.setSingleShot(True)
         self._remake_timer.setInterval(REMAKE_AFTER_MS)
         self._remake_timer.timeout.connect(self._remake)
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="furrows")
+        self._job: tuple[Future, Project, dict] | None = None
+        self._again = False  # the controls changed while a job ran
+        self._stop = [False]  # set when the panel goes: a running job ends at its next pose
+        self._ready.connect(self._made)  # (emitted on the job's thread, queued to this one)
+        stop_jobs = partial(_stop_jobs, self._stop, self._pool)
+        self.destroyed.connect(stop_jobs)
+        QApplication.instance().aboutToQuit.connect(stop_jobs)
         layout = QVBoxLayout(self)
         intro = QLabel("Shape the furrows of the wrinkled maps synthesised from the poses "
                        "(×1: as synthesised).")
@@ -75,7 +90,8 @@ class FurrowPanel(QWidget):
         self._adopt()
 
     def _adopt(self) -> None:
-        """A project opened: its maps are as its controls made them."""
+        """A project opened: its maps are as its controls made them (a job still running for
+        the one before is left to end; its maps are not this project's)."""
         self.maps.adopt(self.doc.project)
         self._fill_poses()
 
@@ -146,17 +162,39 @@ class FurrowPanel(QWidget):
         self._remake_timer.start()
 
     def _remake(self) -> None:
+        """Make the maps whose poses' controls changed, off the GUI thread: laying a map's
+        furrows out at a new spacing takes seconds on a large head (all poses': the whole
+        synthesis), and the person keeps dragging meanwhile. One job at a time; a change
+        during it starts another when it ends."""
+        if self._job is not None:
+            self._again = True
+            return
         project = self.doc.project
-        QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
-        try:  # (the first change of a map's poses lays their furrows out: a few seconds)
-            changed = self.maps.remake(project, list(project.furrows.maps))
+        pending = self.maps.pending(project)
+        if not pending:
+            return
+        stop = self._stop
+        job = self._pool.submit(self.maps.make, project, project.furrows, list(pending),
+                                lambda: stop[0])
+        self._job = (job, project, pending)
+        job.add_done_callback(partial(_announce, self._ready, stop))
+
+    def _made(self) -> None:
+        """A job ended (back on the GUI thread): its maps into the project it was made for."""
+        if self._job is None:
+            return
+        (job, project, pending), self._job = self._job, None
+        try:
+            made = job.result()
         except StudioError as exc:
             self.window().show_error("Cannot make the furrows again", exc)
             return
-        finally:
-            QApplication.restoreOverrideCursor()
-        if changed:
+        if made and project is self.doc.project and self.maps.apply(
+                project, {n: (image, pending[n]) for n, image in made.items()}):
             self.doc.texturesChanged.emit()
+        if self._again:
+            self._again = False
+            self._remake()
 
 
 def push_furrows(doc: Document, settings: FurrowSettings, text: str, merge_key) -> None:
@@ -176,6 +214,19 @@ def push_furrows(doc: Document, settings: FurrowSettings, text: str, merge_key) 
 
 def _same(a: FurrowSettings, b: FurrowSettings) -> bool:
     return a.all == b.all and a.poses == b.poses
+
+
+def _announce(ready, stop: list[bool], _job: Future) -> None:
+    """A job ended: tell the panel, unless it is gone (its signal with it)."""
+    if not stop[0]:
+        with contextlib.suppress(RuntimeError):  # deleted between the check and the emit
+            ready.emit()
+
+
+def _stop_jobs(stop: list[bool], pool: ThreadPoolExecutor) -> None:
+    """The panel is gone: a running job stops at its next pose, and no other starts."""
+    stop[0] = True
+    pool.shutdown(wait=False, cancel_futures=True)
 
 
 def install_furrow_controls(window) -> FurrowPanel:
