@@ -192,6 +192,26 @@ def test_a_map_the_user_replaced_is_left_alone(synthesised):
     assert project.textures.wrinkle_maps[name] is painted
 
 
+def test_maps_made_off_the_gui_thread_can_stop_and_never_overwrite_a_map_replaced_meanwhile(
+        synthesised):
+    project, made = synthesised
+    project = _copy(project)
+    maps = FurrowMaps()
+    maps.adopt(project)
+    project.furrows = project.furrows.with_controls(None, FurrowControls(spacing=1.5))
+    pending = maps.pending(project)
+    assert sorted(pending) == sorted(made)  # every map: all poses' spacing changed
+    assert maps.make(project, project.furrows, list(pending), stop=lambda: True) is None
+    images = maps.make(project, project.furrows, list(pending))
+    name, other = sorted(images)
+    painted = flat_normal_map(SIZE)
+    project.textures.set_wrinkle_map(name, painted)  # loaded by the user while it ran
+    assert maps.apply(project, {n: (images[n], pending[n]) for n in images}) == [other]
+    assert project.textures.wrinkle_maps[name] is painted
+    assert project.textures.wrinkle_maps[other] is images[other]
+    assert maps.pending(project) == {}  # nothing left to make: the painted map is not ours
+
+
 def test_the_project_file_keeps_the_controls_and_what_remakes_the_maps(synthesised, tmp_path):
     project, made = synthesised
     project = _copy(project)
