@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 from studio.commands.export import web_look
+from studio.core.formats.web_export import web_page
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face
-from studio.core.project.web_export import web_page
+from studio.core.sample.synthetic import make_test_face
 from studio.core.wrinkles.response import ResponseCurve
 
 HARNESS = Path(__file__).parent / "js" / "page_activations.cjs"
