@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import json
 import struct
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from pathlib import Path
 
 import numpy as np
@@ -306,7 +306,7 @@ def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[st
         extras, lines = renamed_extras(extras, pose_renames(
             extras.get("poses"), [p.name for p in poses], used_poses(extras)))
         report += lines
-        _read_studio_extras(g, project, extras, attrs, first, carried, report)
+        read_studio_extras(g, project, extras, attrs, first, carried, report)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise MeshError(f"the studio data in extras.{EXTRAS_KEY} is malformed ({exc})",
                         path) from None
@@ -375,13 +375,19 @@ def _material(g: _Gltf, prim: dict) -> dict:
         raise MeshError("the mesh refers to a material that does not exist", g.path) from None
 
 
-def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
-                        first: Array, carried: dict[str, Array], report: list[str]) -> None:
+def read_studio_extras(g: _Gltf | None, project: Project, extras: dict, attrs: dict,
+                       first: Array, carried: dict[str, Array], report: list[str],
+                       image: Callable[[object], Array] | None = None) -> None:
     """The set-up from the extras (images by name, or by index in older files) and the
-    per-vertex data from the attributes, else from ``carried``."""
+    per-vertex data from the attributes, else from ``carried``. ``image`` reads an image the
+    extras name (default: the glTF's own); the USD reader gives its package's, with no glTF
+    (``g`` None) and no attributes."""
+    if image is None:
+        def image(ref: object) -> Array:
+            return g.image(image_index(g, ref))
     areas = []
     for spec in extras.get("influence", {}).get("areas", []):
-        mask = _unit_mask(g.image(image_index(g, spec["image"])))
+        mask = _unit_mask(image(spec["image"]))
         areas.append(InfluenceArea(spec["name"], mask, tuple(spec.get("colour", (255, 128, 0))),
                                    float(spec.get("activation", 0.0)),
                                    bool(spec.get("visible", True)),
@@ -391,7 +397,7 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
                                        curves_from_dict(influence.get("curves", {})))
     if extras.get("wrinkle_maps"):
         tex = project.textures
-        maps = {str(m["name"]): _rgb(g.image(image_index(g, m["image"])), tex.normal_wrinkled)
+        maps = {str(m["name"]): _rgb(image(m["image"]), tex.normal_wrinkled)
                 for m in extras["wrinkle_maps"]}
         project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
     n_welded = len(first)
