@@ -151,3 +151,14 @@ def test_usd_to_another_suffix_is_refused_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "face.usda" in err and ".usdz" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "face.usda").exists()
+
+
+def test_new_from_the_package_keeps_the_set_up(exported, tmp_path):
+    project, path = exported
+    assert main(["new", "--mesh", str(path), "-o", str(tmp_path / "back.wrinkle")]) == 0
+    from studio.core.project.reader import load_project
+
+    back = load_project(tmp_path / "back.wrinkle")
+    assert back.influence.links == project.influence.links
+    assert [a.name for a in back.wdv.areas] == [a.name for a in project.wdv.areas]
+    assert back.timeline.to_dict() == project.timeline.to_dict()
