@@ -20,6 +20,7 @@ import numpy as np
 from studio.core.files.budgets import FILE_BYTES, GLTF_IMAGE_BYTES, IMAGE_BYTES
 from studio.core.files.errors import ImageError, MeshError, StudioError
 from studio.core.files.images import decode_image, decoded_bytes
+from studio.core.files.naming import shown, shown_list
 from studio.core.files.safe_io import read_regular
 from studio.core.formats.gltf.face import FaceChoice
 from studio.core.formats.gltf.materials import _rgb
@@ -86,8 +87,8 @@ def read_head_maps(sources: dict[str, MapSource | None], material: str, origin: 
         if source is None:
             continue
         word, fallback = MAP_WORDS[slot]
-        image, line, file = _read(source, f"{word}: texture {source.written} of material "
-                                  f"{material or '(unnamed)'}", fallback, budget)
+        image, line, file = _read(source, f"{word}: texture {shown(source.written)} of "
+                                  f"material {shown(material or '(unnamed)')}", fallback, budget)
         setattr(maps, slot, image)
         maps.lines.append(line)
         if file is not None and image is not None:
@@ -102,15 +103,15 @@ def _read(source: MapSource, said: str, fallback: str, budget: ImageBudget
     if not data:
         found = next((p for p in source.paths if p.is_file()), None)
         if found is None:
-            tried = ", ".join(dict.fromkeys(str(p) for p in source.paths)) or "no path given"
+            tried = shown_list(dict.fromkeys(str(p) for p in source.paths)) or "no path given"
             return None, f"{said} not found (looked for {tried}): {fallback}", None
         try:
             data = read_regular(found, FILE_BYTES.value, ImageError, "texture",
                                 FILE_BYTES.setting)
         except StudioError as exc:
             return None, f"{said} cannot be read ({exc.problem}): {fallback}", None
-        where = str(found)
-    budget.take(data, f"texture {source.written}")
+        where = shown(found)
+    budget.take(data, f"texture {shown(source.written)}")
     try:
         image = decode_image(data, where)
     except ImageError as exc:

@@ -18,6 +18,7 @@ import numpy as np
 
 from studio.core.files.budgets import FILE_BYTES
 from studio.core.files.errors import StudioError
+from studio.core.files.naming import shown, shown_list
 from studio.core.files.safe_io import read_regular
 from studio.core.formats.head_maps import HeadMaps, MapSource, read_head_maps
 from studio.core.mesh.face_mesh import FaceMesh
@@ -46,21 +47,22 @@ def obj_head_maps(path: str | Path, mesh: FaceMesh, not_face: Array | None) -> H
     for written in libraries:
         library = _library(path.parent, written)
         if library is None:
-            lines.append(f"material library {written} not found beside {path.name}")
+            lines.append(f"material library {shown(written)} not found beside "
+                         f"{shown(path.name)}")
             continue
         try:
             text = read_regular(library, FILE_BYTES.value, StudioError, "material library",
                                 FILE_BYTES.setting).decode("utf-8", errors="replace")
         except StudioError as exc:
-            lines.append(f"material library {written} cannot be read ({exc.problem})")
+            lines.append(f"material library {shown(written)} cannot be read ({exc.problem})")
             continue
         maps = _material_maps(text, material, library.parent)
         if maps is not None:
             break
     if maps is None:
         if libraries and not lines:
-            lines.append(f"material {material} is in none of the material libraries "
-                         f"({', '.join(libraries)}): plain skin colour")
+            lines.append(f"material {shown(material)} is in none of the material libraries "
+                         f"({shown_list(libraries)}): plain skin colour")
         return HeadMaps(lines=lines)
     head = read_head_maps(maps, material, path)
     head.lines[:0] = lines

@@ -16,6 +16,7 @@ from urllib.parse import unquote
 import numpy as np
 
 from studio.core.files.errors import ImageError, MeshError
+from studio.core.files.naming import shown
 from studio.core.formats.gltf.container import _Gltf, _item, _list, _whole
 from studio.core.formats.gltf.face import FaceChoice, MergedFace
 from studio.core.formats.gltf.scene import Primitive
@@ -135,8 +136,8 @@ def shown_texture(g: _Gltf, info: dict | None, material: dict, slot: str,
     word, fallback = MAP_WORDS[slot]
     source = texture_source(g, info)
     spec = _item(g, "images", source)
-    said = (f"{word}: image {spec.get('uri') or source} of material "
-            f"{material.get('name') or '(unnamed)'}")
+    said = (f"{word}: image {shown(spec.get('uri') or source)} of material "
+            f"{shown(material.get('name') or '(unnamed)')}")
     uri = spec.get("uri")
     if isinstance(uri, str) and not uri.startswith("data:") and ":" not in uri.split("/")[0] \
             and not (g.path.parent / unquote(uri)).is_file():
