@@ -59,7 +59,7 @@ vec4 wrinkle_weights() { return v_weights; }
 out vec4 frag_colour;
 
 // The light a normal receives, added with a weight (the blends average it), and the colour it
-// gives an albedo: the skin look's (skin.glsl) or clay's (common.glsl; cavity not drawn).
+// gives an albedo: the skin look's (skin.glsl) or clay's (common.glsl).
 #ifdef SKIN
 #include "skin.glsl"
 void add_light(inout vec3 dif, inout vec3 spe, vec3 n, vec3 view_dir, float weight) {
@@ -68,8 +68,8 @@ void add_light(inout vec3 dif, inout vec3 spe, vec3 n, vec3 view_dir, float weig
     dif += weight * d;
     spe += weight * s;
 }
-vec3 finish(vec3 albedo, vec3 dif, vec3 spe, float cavity) {
-    return skin_finish(albedo, dif, spe, cavity);
+vec3 finish(vec3 albedo, vec3 dif, vec3 spe) {
+    return skin_finish(albedo, dif, spe);
 }
 #else
 void add_light(inout vec3 dif, inout vec3 spe, vec3 n, vec3 view_dir, float weight) {
@@ -77,7 +77,7 @@ void add_light(inout vec3 dif, inout vec3 spe, vec3 n, vec3 view_dir, float weig
     dif += weight * r.x;
     spe += weight * r.y;
 }
-vec3 finish(vec3 albedo, vec3 dif, vec3 spe, float cavity) {
+vec3 finish(vec3 albedo, vec3 dif, vec3 spe) {
     return albedo * (u_ambient + dif) + spe;
 }
 #endif
@@ -147,7 +147,7 @@ void main() {
     vec3 dif = vec3(0.0), spe = vec3(0.0);
 #ifdef TECHNIQUE_FLAT
     add_light(dif, spe, n_geo, view_dir, 1.0);
-    vec3 colour = finish(vec3(0.62), dif, spe, 1.0);
+    vec3 colour = finish(vec3(0.62), dif, spe);
     vec3 n = n_geo;
 #else
     mat3 tbn = mat3(normalize(v_tangent), normalize(v_bitangent), n_geo);
@@ -170,7 +170,7 @@ void main() {
     }
     vec3 n = normalize(n_sum);
     add_light(dif, spe, n, view_dir, 1.0);
-    vec3 colour = finish(albedo, dif, spe, 1.0);
+    vec3 colour = finish(albedo, dif, spe);
 #else
     // the thesis's blend of shaded colours, as the same blend of the light each normal receives
     // (common.glsl: the weights sum to 1, so the ambient term is whole)
@@ -184,7 +184,7 @@ void main() {
             shows += w[m] * length(t_m - t_neutral);
         }
     }
-    vec3 colour = finish(albedo, dif, spe, 1.0);
+    vec3 colour = finish(albedo, dif, spe);
     vec3 n = normalize(n_sum);
 #endif
 #endif

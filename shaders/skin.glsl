@@ -1,7 +1,7 @@
 // The skin look (face.frag with SKIN defined): a wrapped diffuse, one wrap width per channel
 // (a cheap fit of Penner's pre-integrated skin: red reaches past the terminator), two GGX
 // specular lobes with Schlick's Fresnel at skin's F0 and Kelemen's visibility, lit by a rig of
-// three lights; cavity darkens the ambient and diffuse light and, squared, the specular.
+// three lights.
 // studio/core/wrinkles/skin_light.py holds the numpy reference, its constants and the rigs.
 
 uniform vec3 u_rig_dir[3];      // view space, toward each light (unit)
@@ -39,6 +39,6 @@ void skin_receive(vec3 n, vec3 view_dir, out vec3 diffuse, out vec3 specular) {
     }
 }
 
-vec3 skin_finish(vec3 albedo, vec3 diffuse, vec3 specular, float cavity) {
-    return albedo * (u_rig_ambient + diffuse) * cavity + specular * cavity * cavity;
+vec3 skin_finish(vec3 albedo, vec3 diffuse, vec3 specular) {
+    return albedo * (u_rig_ambient + diffuse) + specular;
 }

@@ -168,7 +168,7 @@ def fragment_colour(f: Fragment, *, blend: str = "colour", view: str = "shaded",
         diffuse, specular = (pairs[0][k] * (1.0 - total)[..., None]
                              + (w[..., None] * pairs[1][k]).sum(axis=-2) for k in (0, 1))
     if rig is not None:
-        colour = skin_colour(albedo, diffuse, specular, 1.0, rig)
+        colour = skin_colour(albedo, diffuse, specular, rig)
     else:
         colour = albedo * (lighting.ambient + diffuse) + specular
     if view in HEAT_VIEWS:

@@ -14,9 +14,6 @@ a cool fill opposite, a rim from behind), a soft overcast sky (light from above 
 much ambient) or one hard raking key from the side (for checking lines: grazing light shows
 every furrow). Directions are in view space, toward the light, so the face stays lit while the
 user orbits (common.glsl's convention).
-
-Cavity (0 at the bottom of a crease, 1 on open skin) darkens the ambient and diffuse light and,
-squared, the specular (a crease's bottom sees little sky and reflects nothing).
 """
 
 from __future__ import annotations
@@ -102,9 +99,6 @@ def skin_received(n: Array, view_dir: Array, rig: Rig) -> tuple[Array, Array]:
     return diffuse, specular
 
 
-def skin_colour(albedo: Array, diffuse: Array, specular: Array, cavity: Array | float,
-                rig: Rig) -> Array:
+def skin_colour(albedo: Array, diffuse: Array, specular: Array, rig: Rig) -> Array:
     """(..., 3) linear colour: skin.glsl's ``skin_finish``."""
-    c = np.asarray(cavity, np.float64)
-    c = c[..., None] if c.ndim else c
-    return albedo * (np.asarray(rig.ambient) + diffuse) * c + specular * c * c
+    return albedo * (np.asarray(rig.ambient) + diffuse) + specular
