@@ -12,7 +12,7 @@ from PySide6.QtCore import QSize, Qt
 from PySide6.QtWidgets import QDockWidget, QMainWindow, QScrollArea, QTabWidget, QWidget
 
 # The default layout: these panels as tabs in one right-hand column, in this order.
-RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "UV Paint")
+RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "Furrows", "UV Paint")
 SIDE_WIDTH = 360  # pixels: the right-hand column (a pose slider gets 100 of them)
 TIMELINE_HEIGHT = 200  # pixels: the timeline strip under the viewport
 

@@ -36,11 +36,13 @@ from studio.widgets.document import Document
 from studio.widgets.getting_started import install_getting_started
 from studio.widgets.maps.auto_tools import install_auto_tools
 from studio.widgets.maps.bake_tools import install_bake_tools
+from studio.widgets.maps.furrow_controls import install_furrow_controls
 from studio.widgets.maps.map_tools import install_map_tools
 from studio.widgets.paint.tools import install_mask_tools
 from studio.widgets.timeline.capture_tools import install_capture_tools
 from studio.widgets.timeline.pose_panel import PosePanel
 from studio.widgets.timeline.tools import add_timeline_menu_entries, install_timeline_tools
+from studio.widgets.viewport.look_menu import LookMenu
 from studio.widgets.viewport.shading_panel import ShadingPanel
 from studio.widgets.viewport.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
 from studio.widgets.wdv.panel import install_wdv_tools
@@ -115,6 +117,7 @@ class MainWindow(QMainWindow):
         add_timeline_menu_entries(self)  # File ▸ Export Animation… (after Export), View
         install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
+        install_furrow_controls(self)  # the Furrows dock and Maps ▸ Furrow Controls
         install_capture_tools(self)  # File ▸ Import Capture…, needs the menus and timeline
         keep_dock_tab_words(self)  # (before the docks are tabbed: their bars are made then)
         self._arrange_docks()
@@ -207,6 +210,7 @@ class MainWindow(QMainWindow):
             if title != "History":
                 view.addAction(dock.toggleViewAction())
         view.addSeparator()
+        self.look_menu = LookMenu(view.addMenu("L&ook"), self.doc)
         self._anti_aliasing_menu(view.addMenu("&Anti-Aliasing"))
         view.addAction(self.viewport.reduce_action(self))
         view.addSeparator()
