@@ -64,8 +64,9 @@ def ready_sample(progress: Callable[[int, int], bool] | None = None) -> Project 
     automatic set-up of the wrinkling ones (an area and wrinkle vectors each, wrinkled maps
     synthesised from them) and a timeline of a few expressions. None if ``progress`` stopped."""
     project = load_ict_head()
-    if auto_start(project, locate=face_locator(face_frame(project)), progress=progress,
-                  poses=wrinkling_poses()) is None:
+    frame = face_frame(project)
+    if auto_start(project, locate=face_locator(frame), progress=progress,
+                  poses=wrinkling_poses(), frame=frame) is None:
         return None
     project.name = "ICT-FaceKit head (sample)"
     project.timeline = expression_timeline()

@@ -894,14 +894,15 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
 
 
 def fill_placeholder(project: Project, options: SynthOptions | None = None,
-                     progress: Progress | None = None, poses: Sequence[str] | None = None
-                     ) -> dict[str, list[str]] | None:
+                     progress: Progress | None = None, poses: Sequence[str] | None = None,
+                     frame=None) -> dict[str, list[str]] | None:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
     imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
     lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
     shader's four). Returns {map name: its poses}; empty if every map is authored or the face
     has no key poses; None if ``progress`` (called with done, total) returned False. Where
-    anatomy placed a pose's lines, ``placed_lines`` gives the set-up their vertices."""
+    anatomy placed a pose's lines, ``placed_lines`` gives the set-up their vertices.
+    ``frame``: the face's frame, if known (found otherwise)."""
     textures = project.textures
     name = next((n for n, image in textures.wrinkle_maps.items() if is_flat(image)), None)
     if name is None or not project.poses:
@@ -911,7 +912,8 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
     names = [p.name for p in project.poses] if poses is None else list(poses)
     targets = [project.pose(name).positions for name in names]
     fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress,
-                           places=FacePlaces.of(face_frame(project), project.mesh.rest,
+                           places=FacePlaces.of(frame if frame is not None
+                                                else face_frame(project), project.mesh.rest,
                                                 project.skin_weights()))
     if fields is None:
         return None
