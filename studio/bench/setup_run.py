@@ -1,14 +1,16 @@
 """``wrinkle-studio bench --setup``: each head of ``setup_heads`` set up as ``new --auto`` sets
-it up (the sample as the studio's first start builds it), and its project written, in a fresh
-process of its own (an empty cache, no memory held from the head before), with each stage's
-wall time, CPU time and peak memory (``stage_clock``): a table, ``setup.csv`` and
-``setup.md``."""
+it up (the sample as the studio's first start builds it) and its project written, each head in
+a fresh process (``python -m studio.bench.setup_run INDEX``: an empty cache, no memory held
+from the head before), with each stage's wall time, CPU time and peak memory
+(``stage_clock``): a table, ``setup.csv`` and ``setup.md``."""
 
 from __future__ import annotations
 
 import csv
 import io
-import multiprocessing
+import json
+import subprocess
+import sys
 import tempfile
 import time
 from dataclasses import asdict
@@ -16,6 +18,7 @@ from pathlib import Path
 
 from studio.bench.setup_heads import BenchHead, bench_heads
 from studio.core.files.atomic_write import write_atomic
+from studio.core.files.errors import StudioError
 from studio.core.setup.stage_clock import StageClock, StageFigures, peak_mb, reset_peak, stage
 
 STAGES = ("reading", "face finding", "orientation", "strain", "synthesis", "masks", "vectors",
@@ -48,20 +51,18 @@ def set_up(head: BenchHead, folder: Path) -> dict[str, dict[str, float]]:
     return {name: asdict(f) for name, f in figures.items()}
 
 
-def _in_child(index: int, quick: bool) -> dict[str, dict[str, float]]:
-    with tempfile.TemporaryDirectory(prefix="wrinkle-bench-") as folder:
-        return set_up(bench_heads(quick)[index], Path(folder))
-
-
 def measure(quick: bool = False, say=print) -> list[tuple[str, dict[str, dict[str, float]]]]:
-    """Every head's figures, each head set up in a fresh process; ``say`` hears each head's
-    table as it is done."""
+    """Every head's figures, each head set up in a fresh process (this module run as a
+    script); ``say`` hears each head's table as it is done."""
     results = []
-    spawn = multiprocessing.get_context("spawn")
     for index, head in enumerate(bench_heads(quick)):
         say(f"setting up {head.label} …")
-        with spawn.Pool(1) as pool:
-            figures = pool.apply(_in_child, (index, quick))
+        done = subprocess.run([sys.executable, "-m", "studio.bench.setup_run", str(index),
+                               *(["--quick"] if quick else [])], stdout=subprocess.PIPE,
+                              text=True, check=False)
+        if done.returncode != 0:
+            raise StudioError(f"setting up {head.label} failed (exit code {done.returncode})")
+        figures = json.loads(done.stdout.splitlines()[-1])
         results.append((head.label, figures))
         say(table([(head.label, figures)]))
     return results
@@ -89,3 +90,16 @@ def write_results(results: list[tuple[str, dict[str, dict[str, float]]]], out: P
                              round(f["peak_mb"], 1)])
     write_atomic(out / "setup.csv", text.getvalue().encode(), what="results")
     write_atomic(out / "setup.md", (table(results) + "\n").encode(), what="results")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Set up one head (by its index in ``bench_heads``) and print its figures as JSON."""
+    args = argv if argv is not None else sys.argv[1:]
+    with tempfile.TemporaryDirectory(prefix="wrinkle-bench-") as folder:
+        figures = set_up(bench_heads("--quick" in args)[int(args[0])], Path(folder))
+    print(json.dumps(figures))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

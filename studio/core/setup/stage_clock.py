@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import resource
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from contextvars import ContextVar
 from dataclasses import dataclass
@@ -51,9 +51,12 @@ def reset_peak() -> None:
 
 
 class StageClock:
-    """Each stage's wall time, CPU time and peak memory (``figures``, in the order first run)."""
+    """Each stage's wall time, CPU time and peak memory (``figures``, in the order first run);
+    ``heard``, if given, hears each stage's name as it first starts (the command line's
+    progress)."""
 
-    def __init__(self) -> None:
+    def __init__(self, heard: Callable[[str], None] | None = None) -> None:
+        self.heard = heard
         self.figures: dict[str, StageFigures] = {}
         self._stack: list[str] = []
         self._wall = self._cpu = 0.0
@@ -80,6 +83,8 @@ class StageClock:
 
     def enter(self, name: str) -> None:
         self._switch()
+        if name not in self.figures and self.heard is not None:
+            self.heard(name)
         self.figures.setdefault(name, StageFigures())
         self._stack.append(name)
 
