@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
+from PIL import Image
 
 from studio.core.files.errors import StudioError
 from studio.core.files.images import to_unit_float
@@ -271,7 +272,7 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     if placed is not None:
         strength, phase, c, s = _placed_furrows(amount, _fill_outside(placed[1], covered),
                                                 placed[0])
-        lines = mask_ops.resample(placed[0], size).ravel() > 1e-3
+        lines = _Upsampled(placed[0] > 0.0, size).index(placed[0], 1e-3)
         # a fold's window carries its depth along it, from the pose's compression: gated
         # again texel by texel, its edge would follow the compression's patchy border
         strength = strength * placed[0] if placed[3] else placed[0].astype(np.float32)
@@ -283,24 +284,80 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
         # furrows only inside the regions the phase was laid out on, fading in from their edge
         strength = grown_depth(strength, FURROW_THRESHOLD) * straight
-    strength = mask_ops.resample(strength, size)
-    index = np.flatnonzero(strength > 1e-3)
-    c_up = mask_ops.resample((c + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
-    s_up = mask_ops.resample((s + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
+    # at the map's size only around the texels the pose wrinkles (``_Upsampled``)
+    up = _Upsampled(strength > 0.0, size)
+    index, amount_up = up.index(strength, 1e-3, values_too=True)
+    c_up = up.values((c + 1.0) * 0.5, index) * 2.0 - 1.0
+    s_up = up.values((s + 1.0) * 0.5, index) * 2.0 - 1.0
     degrees = np.degrees(np.mod(0.5 * np.arctan2(s_up, c_up), np.pi))
+    lo, hi = float(phase.min()), float(phase.max())  # as ``_resample_unbounded``
+    span = hi - lo or 1.0
+    phase_up = up.values((phase - lo) / span, index) * span + lo
     # what the pose reveals: where it compresses the skin by a tenth of its strong compression
     # (as its technique-1 mask), or where anatomy placed its lines
     reveals = amount >= max(REVEAL_SHARE * strong, WRINKLING_COMPRESSION)
     if moved is not None:
         reveals = reveals | (moved >= MOVED_SHARE)
-    reveals = mask_ops.resample(reveals, size).ravel() >= 0.5
-    lines = strength.ravel() > 1e-3 if lines is None else lines
-    return FurrowField(index, strength.ravel()[index], degrees.astype(np.float32),
-                       _resample_unbounded(phase, size).ravel()[index],
-                       np.flatnonzero(reveals & ~lines),
+    revealed = _Upsampled(reveals, size).index(reveals.astype(np.float32), 0.5, strict=False)
+    lines = index if lines is None else lines
+    return FurrowField(index, amount_up, degrees.astype(np.float32), phase_up,
+                       np.setdiff1d(revealed, lines, assume_unique=True),
                        *((1.0, SHARPNESS, False) if placed is None
                          else (PLACED_GAIN * placed[2],
                                PLACED_SHARPNESS if placed[3] else FOLD_SHARPNESS, True)))
+
+
+class _Upsampled:
+    """Work-size images brought to the map's size (``mask_ops.resample``'s bilinear filter)
+    over the box of map texels around ``within`` (work texels) only: a pose wrinkles a small
+    part of the face, and upsampling all of a 2048-texel map for it, five images a pose, took
+    most of the synthesis's time and a map's memory per image. The box is widened by the
+    filter's reach, so its texels are those of the whole image upsampled."""
+
+    def __init__(self, within: Array, size: int) -> None:
+        self.work, self.size = within.shape[0], size
+        rows, cols = np.nonzero(within)
+        scale = size / self.work
+        if rows.size == 0:
+            self.box = (0, 0, 0, 0)
+            return
+        self.box = (max(int(np.floor((cols.min() - 1) * scale)), 0),
+                    max(int(np.floor((rows.min() - 1) * scale)), 0),
+                    min(int(np.ceil((cols.max() + 2) * scale)), size),
+                    min(int(np.ceil((rows.max() + 2) * scale)), size))
+
+    def image(self, values: Array) -> Array:
+        """The box of ``values`` (a work-size image in [0, 1]) at the map's size."""
+        c0, r0, c1, r1 = self.box
+        if c1 <= c0 or r1 <= r0:
+            return np.zeros((0, 0), np.float32)
+        if self.work == self.size:
+            return np.asarray(values, np.float32)[r0:r1, c0:c1].copy()
+        k = self.work / self.size
+        image = Image.fromarray(np.ascontiguousarray(values, dtype=np.float32), mode="F")
+        box = image.resize((c1 - c0, r1 - r0), Image.Resampling.BILINEAR,
+                           box=(c0 * k, r0 * k, c1 * k, r1 * k))
+        return np.clip(np.asarray(box, dtype=np.float32), 0.0, 1.0)
+
+    def index(self, values: Array, above: float, values_too: bool = False,
+              strict: bool = True) -> Array | tuple[Array, Array]:
+        """Flat map indices (ascending) of the texels whose upsampled value is above
+        ``above`` (``strict`` False: at least), and with ``values_too`` their values."""
+        image = self.image(values)
+        local = np.flatnonzero(image > above if strict else image >= above)
+        index = self._flat(local, image.shape[1])
+        return (index, image.ravel()[local]) if values_too else index
+
+    def values(self, values: Array, index: Array) -> Array:
+        """The upsampled ``values`` (work-size, in [0, 1]) at flat map indices in the box."""
+        c0, r0 = self.box[:2]
+        rows, cols = np.divmod(index, self.size)
+        return self.image(values)[rows - r0, cols - c0]
+
+    def _flat(self, local: Array, width: int) -> Array:
+        c0, r0 = self.box[:2]
+        rows, cols = np.divmod(local, max(width, 1))
+        return ((rows + r0) * self.size + cols + c0).astype(np.int64)
 
 
 def _fill_outside(values: Array, covered: Array, passes: int = 4) -> Array:
