@@ -564,6 +564,7 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
         bunched = np.zeros(size * size, np.float32)  # … and the skin most bunched there
         bare = [_bare_image(fields[i], size) for i in group] if groups is not None else []
         for k, i in enumerate(group):
+            index = fields[i].index  # each texel once: no ``ufunc.at`` needed
             furrows = fields[i].depth()
             # anatomy's lines give way to other poses' bare skin, but not to that of other
             # placed lines: those reveal all the skin they move around their small window (a
@@ -572,30 +573,49 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
             others = [image for j, image in enumerate(bare) if j != k and image is not None
                       and not (fields[i].placed and fields[group[j]].placed)]
             if others:
-                revealed = np.clip(np.sum(others, axis=0), 0.0, 1.0).ravel()[fields[i].index]
-                furrows = furrows * (1.0 - revealed)
-            np.maximum.at(depth, fields[i].index, furrows)
-            np.minimum.at(bunched, fields[i].index, furrows)
+                revealed = sum(image.at(index, size) for image in others)
+                furrows = furrows * (1.0 - np.clip(revealed, 0.0, 1.0))
+            depth[index] = np.maximum(depth[index], furrows)
+            bunched[index] = np.minimum(bunched[index], furrows)
         images.append((depth + bunched).reshape(size, size))
     return images if groups is not None else images[0]
 
 
-def _bare_image(field: FurrowField, size: int) -> Array | None:
-    """(size, size) in [0, 1]: the skin a pose reveals bare, its edge softened over a furrow
-    spacing or so (``BARE_SOFTNESS`` of the map) so that furrows giving way to it fade."""
+@dataclass
+class _BareImage:
+    """The skin a pose reveals bare, in [0, 1], over the box of the map it reaches only:
+    a whole map's image per pose made the memory grow with the map times the poses."""
+
+    image: Array  # (h, w) float32
+    row: int  # the box's top left texel in the map
+    col: int
+
+    def at(self, index: Array, size: int) -> Array:
+        """Its values at flat map indices, 0 outside its box."""
+        rows, cols = np.divmod(index, size)
+        rows, cols = rows - self.row, cols - self.col
+        h, w = self.image.shape
+        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+        out = np.zeros(len(index), np.float32)
+        out[inside] = self.image[rows[inside], cols[inside]]
+        return out
+
+
+def _bare_image(field: FurrowField, size: int) -> _BareImage | None:
+    """The skin a pose reveals bare, its edge softened over a furrow spacing or so
+    (``BARE_SOFTNESS`` of the map) so that furrows giving way to it fade."""
     if field.bare is None or field.bare.size == 0:
         return None
-    image = np.zeros((size, size), np.float32)
     rows, cols = np.divmod(field.bare, size)
-    image[rows, cols] = 1.0
     # blurred around the bare skin only, as far out as the blur reaches (three box passes of
     # its half-width): the same image, at a fraction of the cost of the whole map's
     # (the ICT head's 53 poses: 13.8 of a 33 s set-up)
     reach = 3 * max(round(BARE_SOFTNESS * size / 2.0), 0) + 1
     r0, r1 = max(int(rows.min()) - reach, 0), min(int(rows.max()) + reach + 1, size)
     c0, c1 = max(int(cols.min()) - reach, 0), min(int(cols.max()) + reach + 1, size)
-    image[r0:r1, c0:c1] = mask_ops.blur(image[r0:r1, c0:c1], BARE_SOFTNESS * size)
-    return image
+    image = np.zeros((r1 - r0, c1 - c0), np.float32)
+    image[rows - r0, cols - c0] = 1.0
+    return _BareImage(mask_ops.blur(image, BARE_SOFTNESS * size), r0, c0)
 
 
 # --- 4. the map ----------------------------------------------------------------------------------
