@@ -35,7 +35,9 @@ along the furrow. Steps:
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import partial
 
@@ -101,6 +103,7 @@ PLACED_SHARE = 0.3  # … and the pose compresses the skin by this share of its 
 WINDOW_RINGS = 3  # the pose wrinkles this many triangles around the window, its mask's edge
 FOLD_RINGS = 2  # a fold's vertices: this many triangles around those it lies on, not cut by
 # their edges where the fold is only a few triangles wide
+MAX_POSE_WORKERS = 4  # threads synthesising poses at once (memory grows with them)
 
 
 @dataclass
@@ -668,8 +671,8 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
         face_xyz = [raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2)]
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
     vary, wiggle = _surface_variation(mesh, raster, skin, options)
-    fields = []
-    for i, target in enumerate(targets):
+
+    def one(target: Array) -> FurrowField:
         strain = uv_strain.of(target)
         motion = np.linalg.norm(np.asarray(target, np.float64) - mesh.rest, axis=1)
         if skin is not None:
@@ -688,10 +691,28 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
                              options.spacing, placed, moved, keep, area)
         field.variation = vary.ravel()[field.index]
         field.phase = field.phase + (0.5 if field.placed else 1.0) * wiggle.ravel()[field.index]
-        fields.append(field)
-        if progress is not None and not progress(i + 1, total or len(targets)):
-            return None
+        return field
+
+    # the poses are independent: on all the cores (numpy and PIL let go of the interpreter
+    # while they work), reported and cancelled here, in the caller's thread, in pose order
+    fields = []
+    with ThreadPoolExecutor(pose_workers()) as pool:
+        for i, field in enumerate(pool.map(one, targets)):
+            fields.append(field)
+            if progress is not None and not progress(i + 1, total or len(targets)):
+                pool.shutdown(cancel_futures=True)  # the poses begun finish; no more begin
+                return None
     return fields
+
+
+def pose_workers() -> int:
+    """Threads for the poses' fields: the cores this process may use, at most
+    ``MAX_POSE_WORKERS`` (each holds a pose's work-size images and its Poisson grid)."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(cores, MAX_POSE_WORKERS))
 
 
 def _surface_variation(mesh: FaceMesh, raster: UvRaster, skin: Array | None,
