@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import colorsys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,7 +29,12 @@ from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.selection import suggest
 from studio.core.project.model import Project
 from studio.core.setup.stage_clock import stage
-from studio.core.setup.wrinkle_synth import UvRaster, fill_placeholder, placed_lines
+from studio.core.setup.wrinkle_synth import (
+    UvRaster,
+    fill_placeholder,
+    placed_lines,
+    pose_workers,
+)
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.skin_strain import PoseStrain, SkinStrain, compression_weights
@@ -318,27 +324,34 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
     vertices of the lines anatomy placed for a pose; on them only another pose whose own
     placed lines lie there too keeps the cone by squeezing the skin — a brow raise squeezes
     the skin between the inner eye and the nose, and showed a squint's lines under the eye
-    there; a left brow lowerer squeezes the right one's line, and showed it."""
-    for area in areas:
-        index = np.flatnonzero(area.authored)
-        direction = area.directions[index].astype(np.float64)
-        length = area.lengths[index].astype(np.float64)
-        full = area.vertex_cones_deg()[index].astype(np.float64)
-        cone = full.copy()
-        for at, delta, squeeze, least in _others(area, index, length, motions, squeezed,
-                                                 lines):
-            size = np.linalg.norm(delta, axis=1)
-            cos = np.einsum("ij,ij->i", delta, direction[at]) / np.maximum(size, 1e-300)
-            alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-            shown = size / np.maximum(length[at], 1e-300) * (1.0 - alpha / full[at])
-            crosses = ((size > 0.0) & (alpha < full[at]) & (shown > least)
-                       & (squeeze < CROSS_SQUEEZED))
-            np.minimum.at(cone, at[crosses], np.maximum(CONE_SHRINK * alpha[crosses], LEAST_CONE))
-        if (cone < full).any():
-            painted = (np.zeros(len(area.lengths), np.float32) if area.cone_angles_deg is None
-                       else area.cone_angles_deg.copy())
-            painted[index] = np.where(cone < full, cone, painted[index])
-            area.cone_angles_deg = painted
+    there; a left brow lowerer squeezes the right one's line, and showed it. The areas are
+    independent: narrowed on every core the process may use (``pose_workers``)."""
+    with ThreadPoolExecutor(pose_workers()) as pool:
+        list(pool.map(lambda area: _narrow_area(area, motions, squeezed, lines), areas))
+
+
+def _narrow_area(area: WdvArea, motions: Mapping[str, Array], squeezed: Mapping[str, Array],
+                 lines: Mapping[str, Array] | None) -> None:
+    """``narrow_cones`` for one area: its cones, painted where they narrow."""
+    index = np.flatnonzero(area.authored)
+    direction = area.directions[index].astype(np.float64)
+    length = area.lengths[index].astype(np.float64)
+    full = area.vertex_cones_deg()[index].astype(np.float64)
+    cone = full.copy()
+    for at, delta, squeeze, least in _others(area, index, length, motions, squeezed,
+                                             lines):
+        size = np.linalg.norm(delta, axis=1)
+        cos = np.einsum("ij,ij->i", delta, direction[at]) / np.maximum(size, 1e-300)
+        alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+        shown = size / np.maximum(length[at], 1e-300) * (1.0 - alpha / full[at])
+        crosses = ((size > 0.0) & (alpha < full[at]) & (shown > least)
+                   & (squeeze < CROSS_SQUEEZED))
+        np.minimum.at(cone, at[crosses], np.maximum(CONE_SHRINK * alpha[crosses], LEAST_CONE))
+    if (cone < full).any():
+        painted = (np.zeros(len(area.lengths), np.float32) if area.cone_angles_deg is None
+                   else area.cone_angles_deg.copy())
+        painted[index] = np.where(cone < full, cone, painted[index])
+        area.cone_angles_deg = painted
 
 
 def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Array],
