@@ -28,7 +28,7 @@ def main() -> int:
     parser.add_argument("--samples", type=int, default=32)
     args = parser.parse_args()
     from studio.core.files.images import write_png
-    from studio.core.project.export import export_folder
+    from studio.core.formats.export import export_folder
     from studio.core.setup.sample_setup import sample_project
 
     with tempfile.TemporaryDirectory() as temp:

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from studio.core.project.ict_head import landmark_vertices
+from studio.core.sample.ict_head import landmark_vertices
 from studio.core.setup.face_frame import aim
 from studio.core.setup.sample_setup import sample_project
 from studio.core.wrinkles.normal_tilt import furrow_tilt

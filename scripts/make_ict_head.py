@@ -25,8 +25,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from studio.core.project.assemble import project_from_files  # noqa: E402
-from studio.core.project.ict_head import NOT_SKIN_MATERIALS, resource_path  # noqa: E402
+from studio.core.formats.assemble import project_from_files  # noqa: E402
+from studio.core.sample.ict_head import NOT_SKIN_MATERIALS, resource_path  # noqa: E402
 
 
 def pack(ict: Path, out: Path) -> None:

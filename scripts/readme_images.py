@@ -13,9 +13,9 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from studio.bench.report import _font
-from studio.core.project.ict_head import landmark_vertices
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face, sample_landmarks
+from studio.core.sample.ict_head import landmark_vertices
+from studio.core.sample.synthetic import make_test_face, sample_landmarks
 from studio.core.setup.sample_setup import EXPRESSIONS, sample_project
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings

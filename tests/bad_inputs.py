@@ -21,10 +21,10 @@ from pathlib import Path
 import numpy as np
 
 from studio.core.files.png import SIGNATURE, encode_png
+from studio.core.formats.gltf.codec import save_gltf
 from studio.core.mesh.meshio import save_obj
-from studio.core.project.gltf import save_gltf
-from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import make_test_face
 
 
 def small_project():

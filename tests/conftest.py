@@ -80,7 +80,7 @@ def gl_context():
 @pytest.fixture
 def sample():
     """A private copy of the bundled sample face (2172 vertices) that a test may change."""
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
 
     return copy.deepcopy(make_test_face())
 

@@ -33,7 +33,7 @@ def main(mode: str) -> int:
     app = QApplication(sys.argv[:1])
     app.setApplicationName("Wrinkle Studio")
     app.setOrganizationName("WrinkleStudio")
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
     from studio.widgets.crash_log import enable_crash_log
     from studio.widgets.main_window import MainWindow
 

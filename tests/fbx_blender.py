@@ -42,7 +42,7 @@ def _build(out: str, skeleton: bool, up: str, poses: list[str] | None, uvs: bool
     import numpy as np
 
     sys.path.insert(0, str(ROOT))
-    from studio.core.project.ict_head import load_ict_head
+    from studio.core.sample.ict_head import load_ict_head
 
     project = load_ict_head(poses=poses)
     mesh = project.mesh

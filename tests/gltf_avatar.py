@@ -126,7 +126,7 @@ def brow_card(skin, face_xy: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     half a millimetre in front of it, moving with it in every pose (so a brow lowerer squeezes
     them as it squeezes the brow). (welded skin vertex each card vertex copies, its offset
     along the skin's normal in sample units, triangles, UVs over the brow texture)."""
-    from studio.core.project.sample_mesh import BROW_Y, vertex_normals
+    from studio.core.sample.mesh import BROW_Y, vertex_normals
 
     x, y = face_xy[:, 0], face_xy[:, 1]
     over = (np.abs(x) > 0.04) & (np.abs(x) < 0.36) & (np.abs(y - BROW_Y) < 0.05)

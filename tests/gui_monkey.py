@@ -562,7 +562,7 @@ def main(argv: list[str] | None = None) -> int:
 
     project = None
     if args.test_face:
-        from studio.core.project.sample import make_test_face
+        from studio.core.sample.synthetic import make_test_face
 
         project = make_test_face()
     window = MainWindow(project)

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from studio.core.project.sample_mesh import (
+from studio.core.sample.mesh import (
     BROW_Y,
     CORNER_X,
     CORNER_Y,

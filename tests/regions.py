@@ -6,7 +6,7 @@ import numpy as np
 
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.project.model import Project
-from studio.core.project.sample import sample_landmarks
+from studio.core.sample.synthetic import sample_landmarks
 
 
 def landmark_pixels(project: Project, camera: OrbitCamera, width: int, height: int

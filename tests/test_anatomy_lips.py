@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project.ict_head import landmark_vertices, load_ict_head
+from studio.core.sample.ict_head import landmark_vertices, load_ict_head
 from studio.core.setup import anatomy_lips as al
 from studio.core.setup.face_frame import aim
 from studio.core.setup.sample_setup import sample_project

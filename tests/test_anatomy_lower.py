@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.project.ict_head import landmark_vertices
 from studio.core.project.model import Project
+from studio.core.sample.ict_head import landmark_vertices
 from studio.core.setup.anatomy import FacePlaces
 from studio.core.setup.face_frame import aim, face_frame
 from studio.core.setup.sample_setup import sample_project

@@ -26,13 +26,13 @@ import pytest
 from studio.core.animation.poses import KeyPose
 from studio.core.files.errors import ImageError, MeshError, ProjectError, StudioError
 from studio.core.files.images import write_png
+from studio.core.formats.assemble import FLAT_NORMAL, project_from_files
+from studio.core.formats.gltf.codec import save_gltf
+from studio.core.formats.texture_sets import find_tile_set, load_texture
 from studio.core.mesh.meshio import load_mesh, not_face_vertices
 from studio.core.mesh.uv_tiles import SINGLE, plan_layout
-from studio.core.project.assemble import FLAT_NORMAL, project_from_files
-from studio.core.project.gltf import save_gltf
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
-from studio.core.project.texture_sets import find_tile_set, load_texture
 from studio.core.project.writer import save_project
 from studio.core.wrinkles.textures import SKIN, FaceTextures
 from tests.bad_inputs import rewrite_project

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 from studio.cli import main
-from studio.core.project.gltf import load_gltf
+from studio.core.formats.gltf.codec import load_gltf
 from tests.bad_inputs import CASES, Case, make_case, write_base
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -348,8 +348,8 @@ def test_cli_bakes_into_the_project_and_a_png(tmp_path, capsys):
     from studio.core.files.images import load_rgb
     from studio.core.mesh.meshio import save_obj
     from studio.core.project.reader import load_project
-    from studio.core.project.sample import make_test_face
     from studio.core.project.writer import save_project
+    from studio.core.sample.synthetic import make_test_face
 
     project = make_test_face(561, texture_size=64, mask_size=32)
     save_project(project, tmp_path / "face.wrinkle")
@@ -458,8 +458,8 @@ def test_a_udim_sculpt_bakes_into_the_face_s_atlas_cells():
 @pytest.mark.core
 def test_cli_bakes_a_udim_sculpt_into_a_udim_head(tmp_path, capsys):
     from studio.cli import main
+    from studio.core.formats.assemble import project_from_files
     from studio.core.mesh.meshio import save_obj
-    from studio.core.project.assemble import project_from_files
     from studio.core.project.writer import save_project
 
     save_obj(tmp_path / "head.obj", two_tiles(2))

@@ -20,10 +20,10 @@ import numpy as np
 import pytest
 
 from studio.core.animation.timeline import Timeline, sequence_all_poses
-from studio.core.project.export import export_folder
-from studio.core.project.gltf import _Gltf, save_gltf, vertex_attributes
+from studio.core.formats.export import export_folder
+from studio.core.formats.gltf.codec import _Gltf, save_gltf, vertex_attributes
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from tests.test_export_folder_core import tiny_project
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from studio.core.project.blender_material import link_term
-from studio.core.project.export import export_folder
+from studio.core.formats.blender_material import link_term
+from studio.core.formats.export import export_folder
 from studio.core.wrinkles.response import ResponseCurve
 from tests.test_blender_round_trip import JUDGED, set_up_head
 

@@ -6,7 +6,7 @@ Blender's export drops the file's root extras (even with custom properties on) a
 vertex attribute, renumbers the textures and rebuilds the timeline as one track per pose. What
 survives: the UV maps (TEXCOORD_1 holds the studio's welding and UDIM tiles) and each PNG byte
 for byte (the neutral normal map's ``wrSt`` chunk holds the extras, naming images, and the
-per-vertex data): core/project/gltf_carry.py. Before, the default re-export lost the not-face
+per-vertex data): core/formats/gltf/carry.py. Before, the default re-export lost the not-face
 parts, and ``new --gltf FILE --auto`` showed 0.2 % (t1) and 0.55 % (t2) of pixels changed by
 browInnerUp_L, its masks spread over the eyes.
 """
@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core.project.gltf import load_gltf, save_gltf
+from studio.core.formats.gltf.codec import load_gltf, save_gltf
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
 from tests.test_blender_import import blender
@@ -35,7 +35,7 @@ JUDGED = "browInnerUp_L"
 def set_up_head() -> Project:
     """The ICT head with five poses set up as ``new --auto`` does (eyes, lashes and teeth not
     face, seven UDIM tiles, three wrinkled maps)."""
-    from studio.core.project.ict_head import load_ict_head
+    from studio.core.sample.ict_head import load_ict_head
     from studio.core.setup.auto_setup import auto_start
     from studio.core.setup.face_frame import face_frame, face_locator
 

@@ -20,7 +20,7 @@ import pytest
 from studio.cli import main
 from studio.core.animation.timeline import Key, Timeline, Track
 from studio.core.files.errors import StudioError
-from studio.core.project.capture import (
+from studio.core.formats.capture import (
     CaptureError,
     apply_take,
     import_capture,

@@ -14,7 +14,7 @@ from PySide6.QtWidgets import QFileDialog
 from studio.core.animation.pose_names import ARKIT_NAMES
 from studio.core.animation.poses import KeyPose
 from studio.core.animation.timeline import Timeline
-from studio.core.project.capture import import_capture
+from studio.core.formats.capture import import_capture
 from studio.core.project.reader import load_project
 from studio.widgets.timeline.edits import TimelineState
 from tests.test_capture import (

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from studio.core.animation.timeline import Key, Timeline, Track
-from studio.core.project.capture import (
+from studio.core.formats.capture import (
     CaptureError,
     CaptureReport,
     Take,

@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from studio.cli import main
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 

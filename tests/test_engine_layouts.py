@@ -21,8 +21,8 @@ from studio.core.engines.layouts import LAYOUTS
 from studio.core.engines.plan import LayoutError
 from studio.core.files.errors import StudioError
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import make_test_face
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.wdv import WdvSetup

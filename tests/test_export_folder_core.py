@@ -19,10 +19,10 @@ import pytest
 from studio.core.animation.poses import KeyPose
 from studio.core.files.errors import StudioError
 from studio.core.files.images import read_image
+from studio.core.formats.export import export_folder
+from studio.core.formats.gltf.codec import load_gltf
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import pack_mesh
-from studio.core.project.export import export_folder
-from studio.core.project.gltf import load_gltf
 from studio.core.project.model import Project
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.textures import FaceTextures

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project.sample_mesh import EYE_X, EYE_Y
+from studio.core.sample.mesh import EYE_X, EYE_Y
 from studio.core.setup.face_features import find_face_features
 from studio.core.setup.face_frame import detect_face_frame
 from tests.production_head import Z_UP, build_head

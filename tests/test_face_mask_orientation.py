@@ -13,7 +13,7 @@ import time
 import numpy as np
 import pytest
 
-from studio.core.project.sample_mesh import BROW_Y, EYE_X, EYE_Y, MOUTH_X, MOUTH_Y, blob
+from studio.core.sample.mesh import BROW_Y, EYE_X, EYE_Y, MOUTH_X, MOUTH_Y, blob
 from studio.core.setup.face_frame import detect_face_frame
 from tests.production_head import build_head
 

@@ -14,9 +14,9 @@ import pytest
 
 from studio.cli import main
 from studio.core.files.errors import MeshError
-from studio.core.project.fbx import load_fbx
-from studio.core.project.ict_head import load_ict_head
+from studio.core.formats.fbx import load_fbx
 from studio.core.project.reader import load_project
+from studio.core.sample.ict_head import load_ict_head
 from tests.fbx_blender import write_fbx
 from tests.test_blender_round_trip import changed_shares
 from tests.visibility import least

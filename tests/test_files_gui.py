@@ -28,7 +28,7 @@ from PySide6.QtWidgets import (
 from studio.core.project import reader
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from studio.widgets.app_settings import settings
 from studio.widgets.wdv import edits
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks

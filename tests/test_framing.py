@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from studio.core.formats.assemble import project_from_files
 from studio.core.mesh.camera import OrbitCamera
-from studio.core.project.assemble import project_from_files
-from studio.core.project.sample_mesh import EYE_X, EYE_Y
+from studio.core.sample.mesh import EYE_X, EYE_Y
 from studio.core.setup.face_frame import aim, detect_face_frame
 from tests.production_head import POSES, build_head
 

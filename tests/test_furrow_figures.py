@@ -41,9 +41,9 @@ import numpy as np
 import pytest
 
 from studio.cli import main
-from studio.core.project.ict_head import landmark_vertices
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
+from studio.core.sample.ict_head import landmark_vertices
 from studio.core.setup.face_frame import aim
 from studio.core.setup.sample_setup import sample_project
 from tests import production_head

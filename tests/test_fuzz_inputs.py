@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 
 from studio.cli import main
 from studio.core.files.errors import StudioError
-from studio.core.project.gltf import load_gltf
+from studio.core.formats.gltf.codec import load_gltf
 from tests.bad_inputs import gltf_doc, write_base, write_gltf
 
 SCALE = int(os.environ.get("WRINKLE_FUZZ_EXAMPLES", "250")) / 250

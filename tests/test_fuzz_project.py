@@ -24,9 +24,9 @@ from hypothesis import strategies as st
 from studio.core.files.errors import ProjectError
 from studio.core.project.model import Project
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
 from studio.core.project.schema import check_project
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import make_test_face
 
 pytestmark = pytest.mark.core
 

@@ -62,7 +62,7 @@ def test_the_viewport_gets_the_highest_version_and_about_names_it(open_window, m
     from PySide6.QtGui import QSurfaceFormat
     from PySide6.QtWidgets import QMessageBox
 
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
     from studio.widgets.about import about_text
 
     shown: list[str] = []

@@ -13,9 +13,9 @@ import pytest
 from studio.cli import main
 from studio.core.files.errors import StudioError
 from studio.core.files.images import read_image
-from studio.core.project.gltf import load_gltf, save_gltf
+from studio.core.formats.gltf.codec import load_gltf, save_gltf
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 
 pytestmark = pytest.mark.core
 

@@ -1,4 +1,4 @@
-"""The glTF container reader (``_Gltf`` in core/project/gltf.py) on small hand-made files.
+"""The glTF container reader (``_Gltf`` in core/formats/gltf/codec.py) on small hand-made files.
 
 Every file here is built byte by byte (JSON plus ``numpy`` bytes, GLB headers with ``struct``),
 so the expected values are known without the reader: each component type, interleaved views
@@ -22,7 +22,7 @@ import pytest
 
 from studio.core.files.errors import ImageError, MeshError
 from studio.core.files.png import encode_png
-from studio.core.project.gltf import BIN_CHUNK, JSON_CHUNK, _Gltf, _rgb
+from studio.core.formats.gltf.codec import BIN_CHUNK, JSON_CHUNK, _Gltf, _rgb
 
 pytestmark = pytest.mark.core
 

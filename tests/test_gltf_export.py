@@ -13,9 +13,9 @@ import pytest
 
 from studio.core.animation.timeline import Key, sequence_all_poses
 from studio.core.files.errors import MeshError
+from studio.core.formats.gltf.codec import _Gltf, load_gltf, save_gltf
 from studio.core.mesh.geometry import DeformCache
-from studio.core.project.gltf import _Gltf, load_gltf, save_gltf
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 
 pytestmark = pytest.mark.core
 
@@ -249,7 +249,7 @@ def test_the_set_up_chunk_leaves_the_image_as_it_was_for_png_readers():
     from PIL import Image
 
     from studio.core.files.png import decode_png, encode_png
-    from studio.core.project.gltf_carry import find_setup, with_setup
+    from studio.core.formats.gltf.carry import find_setup, with_setup
 
     image = (np.arange(4 * 5 * 3) % 256).astype(np.uint8).reshape(4, 5, 3)
     plain = encode_png(image)

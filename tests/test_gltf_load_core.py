@@ -19,8 +19,8 @@ import pytest
 from studio.core.animation.timeline import Timeline
 from studio.core.files.errors import MeshError
 from studio.core.files.png import encode_png
-from studio.core.project.gltf import load_gltf, load_weight_animation
-from studio.core.project.gltf_animation import sample_frames, timeline_from_animation
+from studio.core.formats.gltf.animation import sample_frames, timeline_from_animation
+from studio.core.formats.gltf.codec import load_gltf, load_weight_animation
 
 pytestmark = pytest.mark.core
 

@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from studio.core.files.errors import MeshError
-from studio.core.project.assemble import project_from_files, suggest_not_face
-from studio.core.project.face_parts import Part, is_closed, moves_rigidly, suggest_parts
-from studio.core.project.gltf import load_gltf
+from studio.core.formats.assemble import project_from_files, suggest_not_face
+from studio.core.formats.face_parts import Part, is_closed, moves_rigidly, suggest_parts
+from studio.core.formats.gltf.codec import load_gltf
 from tests.gltf_avatar import MESHES, TARGETS, build_avatar, to_world
 from tests.production_head import build_head
 from tests.test_gltf_load_core import POSITIONS, SMILE, UVS, Doc, face

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from PySide6.QtCore import Qt
 
-from studio.core.project.gltf import load_gltf
+from studio.core.formats.gltf.codec import load_gltf
 from studio.widgets.new_project_dialog import NewProjectDialog
 from tests.gltf_avatar import MESHES, build_avatar
 

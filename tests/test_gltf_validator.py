@@ -18,10 +18,10 @@ import pytest
 
 from studio.cli import main
 from studio.core.animation.timeline import Timeline, sequence_all_poses
-from studio.core.project.export import export_folder
-from studio.core.project.gltf import save_gltf
+from studio.core.formats.export import export_folder
+from studio.core.formats.gltf.codec import save_gltf
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from tests.test_production_head import import_head
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -78,7 +78,7 @@ def test_no_exported_map_or_mask_is_an_unused_object(exports):
     """Masks and further wrinkled maps are KHR_materials_variants materials, which the
     validator follows: none of their images is reported unused (an information). TEXCOORD_1
     is, by design: no material samples it, it carries the studio's welding through tools that
-    drop custom attributes (core/project/gltf_carry.py)."""
+    drop custom attributes (core/formats/gltf/carry.py)."""
     for report in validate(exports[:1] + exports[3:]):
         unused = [m["pointer"] for m in report["messages"] if m["code"] == "UNUSED_OBJECT"]
         assert unused == ["/meshes/0/primitives/0/attributes/TEXCOORD_1"], report["file"]

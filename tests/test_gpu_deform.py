@@ -160,7 +160,7 @@ def test_strain_weights_are_numpy_s_and_a_stretch_shows_none(gl_context, sheet):
 def test_the_studio_draws_the_same_face_deformed_either_way(gl_context, monkeypatch, technique):
     """The whole renderer, GPU deformation against numpy, on the procedural face posed: the
     same picture (the split draw's choice of triangles included)."""
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
     from studio.render.offscreen import OffscreenStudio
     from studio.render.settings import RenderSettings
 

@@ -32,7 +32,7 @@ def test_masks_larger_than_the_gpu_holds(renderer, gl_context):
 
 
 def test_textures_larger_than_the_gpu_holds(renderer, gl_context, monkeypatch):
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
 
     textures = make_test_face(561, texture_size=64, mask_size=32).textures
     renderer.set_textures(textures)

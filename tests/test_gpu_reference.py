@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.tangent_frames import TANGENT_FRAMES
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from studio.core.wrinkles.mask_sparse import composed_weights, sparse_masks
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map
 from studio.core.wrinkles.wdv import WdvSlots, visibility

@@ -602,8 +602,8 @@ def nested_levels(count: int = 100_000) -> Gltf:
 
 def placing_seconds(tmp_path: Path, g: Gltf) -> float:
     """CPU time to walk the scene and place its meshes (CPU, not wall: the machine is shared)."""
-    from studio.core.project.gltf_container import _Gltf
-    from studio.core.project.gltf_scene import placed_meshes
+    from studio.core.formats.gltf.container import _Gltf
+    from studio.core.formats.gltf.scene import placed_meshes
 
     gltf = _Gltf(g.write(tmp_path / "scene.glb"))
     start = time.process_time()

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project import gltf_face
+from studio.core.formats.gltf import face as gltf_face
 
 pytestmark = pytest.mark.core
 

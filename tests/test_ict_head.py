@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from studio.core.files.errors import StudioError
-from studio.core.project.ict_head import NOT_SKIN_MATERIALS, load_ict_head
+from studio.core.sample.ict_head import NOT_SKIN_MATERIALS, load_ict_head
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import face_frame, face_locator
 from studio.core.setup.sample_setup import EXPRESSIONS, WRINKLING, sample_project
@@ -135,7 +135,7 @@ def test_the_face_box_ends_at_the_chin_and_names_each_pose_after_its_place(subse
     """The face is the skin the poses deform; the neck under the chin, pulled by the jaw
     opening alone, is not: the box's bottom is the chin, so F frames the face and the report
     names each pose's place on this real head, with a rig of ten poses or all 53."""
-    from studio.core.project.ict_head import landmark_vertices
+    from studio.core.sample.ict_head import landmark_vertices
     from studio.core.setup.auto_setup import suggest_setup
 
     named = {"browInnerUp_L": ("forehead", "left brow"), "eyeSquint_L": ("left lower eyelid",),

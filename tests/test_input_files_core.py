@@ -22,16 +22,16 @@ from studio.core.files.input_checks import (
     finite,
     finite_float,
 )
-from studio.core.mesh.meshio import load_mesh
-from studio.core.mesh.uv_tiles import plan_layout
-from studio.core.project.assemble import (
+from studio.core.formats.assemble import (
     FLAT_NORMAL,
     _embedded_to_atlas,
     project_from_files,
     suggest_not_face,
 )
-from studio.core.project.capture import CaptureError, _first_bad_number, read_live_link_csv
-from studio.core.project.texture_sets import load_texture
+from studio.core.formats.capture import CaptureError, _first_bad_number, read_live_link_csv
+from studio.core.formats.texture_sets import load_texture
+from studio.core.mesh.meshio import load_mesh
+from studio.core.mesh.uv_tiles import plan_layout
 from studio.core.wrinkles.textures import SKIN, FaceTextures
 
 pytestmark = pytest.mark.core

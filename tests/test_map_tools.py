@@ -7,7 +7,7 @@ import pytest
 from PySide6.QtWidgets import QFileDialog, QInputDialog
 
 from studio.core.files.images import write_png
-from studio.core.project.gltf import load_gltf
+from studio.core.formats.gltf.codec import load_gltf
 from tests.gui_helpers import fill_export_dialog, viewport_image, viewport_marks
 from tests.regions import region_difference
 

@@ -11,8 +11,8 @@ from PySide6.QtWidgets import QPushButton
 
 from studio.core.files.images import read_image, write_png
 from studio.core.project.reader import load_project
-from studio.core.project.sample import landmark_uvs
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import landmark_uvs
 from studio.widgets.paint.edits import PaintSession, set_resolution
 from tests.gui_helpers import viewport_image, viewport_marks
 from tests.regions import region_difference
@@ -514,7 +514,7 @@ def warped_pixel(window, name: str) -> tuple[float, float]:
 
 def neutral_marks(window) -> dict[str, tuple[int, int]]:
     """The landmarks' pixels, found on the sample's own UV layout (the geometry is the same)."""
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
     from tests.regions import landmark_pixels
 
     w, h = window.viewport.pixel_size()

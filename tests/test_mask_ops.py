@@ -104,7 +104,7 @@ def test_auto_mask_is_nonzero_where_the_pose_compresses_and_zero_elsewhere():
 
 
 def test_auto_mask_on_the_sample_squeeze_lands_near_the_eyes():
-    from studio.core.project.sample import landmark_uvs, make_test_face
+    from studio.core.sample.synthetic import landmark_uvs, make_test_face
 
     project = make_test_face()
     mask = mask_ops.auto_mask(project.mesh, project.pose("squeeze").positions, 256)

@@ -7,7 +7,7 @@ import numpy as np
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QPushButton
 
-from studio.core.project.sample import landmark_uvs
+from studio.core.sample.synthetic import landmark_uvs
 from studio.core.wrinkles.surface_mirror import SurfaceMirror, mirror_mask
 from tests.test_face_frame import head_project
 
@@ -80,7 +80,7 @@ def test_a_mask_mirrors_across_a_head_placed_anywhere():
 def test_a_52_pose_rig_keeps_its_names_and_the_filter_finds_a_pose(open_window, qtbot):
     from studio.core.animation.pose_names import ARKIT_NAMES
     from studio.core.animation.poses import KeyPose
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
 
     project = make_test_face(561)
     rest = project.mesh.rest

@@ -8,9 +8,9 @@ from PySide6.QtWidgets import QDialogButtonBox
 
 from studio.core.files.errors import MeshError
 from studio.core.files.images import write_png
+from studio.core.formats.assemble import project_from_files
 from studio.core.mesh.meshio import save_obj
-from studio.core.project.assemble import project_from_files
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from studio.widgets.new_project_dialog import NewProjectDialog
 
 

@@ -87,7 +87,7 @@ def test_new_says_it_made_the_uvs_and_keeps_them(imported):
 
 def test_the_made_uvs_travel_in_the_exports(imported, tmp_path):
     """A glTF export and an OBJ of the face carry the UVs the studio made."""
-    from studio.core.project.gltf import load_gltf, save_gltf
+    from studio.core.formats.gltf.codec import load_gltf, save_gltf
 
     _, project, _ = imported
     save_gltf(project, tmp_path / "face.glb")

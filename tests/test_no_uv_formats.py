@@ -222,7 +222,7 @@ def test_new_makes_uvs_for_a_glb_without_texcoords_and_its_morph_targets_fit(hea
 def test_the_made_uvs_travel_in_the_glb_export(head, tmp_path):
     """``wrinkle-studio export --gltf`` writes the made UVs as TEXCOORD_0, and the export
     opens again with them."""
-    from studio.core.project.gltf import load_gltf
+    from studio.core.formats.gltf.codec import load_gltf
 
     files = write_set(head, tmp_path / "stl", "stl")
     code, out = new(["--mesh", str(files["neutral"]), "--pose", f"smile={files[POSES[1]]}",

@@ -1,4 +1,4 @@
-"""Eyebrow cards are not skin (studio/core/project/gltf_materials.py ``see_through``,
+"""Eyebrow cards are not skin (studio/core/formats/gltf/materials.py ``see_through``,
 face_parts.py): a VRoid-style avatar (tests/gltf_avatar.py) whose Head mesh has a second
 primitive, eyebrow cards lying half a millimetre over the brows and moving with them in every
 pose, so that a brow lowerer squeezes them as it squeezes the skin. Their material is alpha-cut
@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studio.core.project.assemble import project_from_files
+from studio.core.formats.assemble import project_from_files
 from studio.core.setup.auto_setup import suggest_setup
 from tests.gltf_avatar import BROW_CARDS, brow_card, build_avatar, to_world
 from tests.production_head import build_head

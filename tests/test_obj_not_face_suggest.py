@@ -12,7 +12,7 @@ import pytest
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFileDialog, QPushButton
 
-from studio.core.project.assemble import suggest_obj_parts
+from studio.core.formats.assemble import suggest_obj_parts
 from studio.widgets.new_project_dialog import NewProjectDialog
 
 # an octahedron: a closed shell, 2 units across beside a 20-unit sheet of skin

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.project.sample import _points_at_uvs
+from studio.core.sample.synthetic import _points_at_uvs
 
 pytestmark = pytest.mark.core
 

@@ -176,9 +176,9 @@ def test_the_synthesised_furrows_lie_on_the_skin_tile_and_crossing_poses_get_own
 def test_a_gltf_with_udim_coordinates_is_packed_the_same_way(imported):
     """A glTF from elsewhere (no studio extras) whose UVs run over three tiles: imported, its
     UVs are packed like the OBJ set's, and its own image is tile 1001's."""
+    from studio.core.formats.assemble import project_from_files
+    from studio.core.formats.gltf.codec import save_gltf
     from studio.core.mesh.face_mesh import FaceMesh
-    from studio.core.project.assemble import project_from_files
-    from studio.core.project.gltf import save_gltf
 
     _, project, _, folder = imported
     tiles = project.uv_tiles

@@ -30,8 +30,8 @@ import pytest
 from studio.core.files.errors import ProjectError
 from studio.core.files.png import HEADER_BYTES
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import make_test_face
 
 ROOT = Path(__file__).resolve().parents[1]
 PIECE = 1 << 20

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from studio.core.files.errors import RenderError
-from studio.core.project.sample import sample_landmarks
+from studio.core.sample.synthetic import sample_landmarks
 from studio.core.wrinkles.normalmap import height_to_normal
 from studio.core.wrinkles.relief import height_from_normals, relief_image, wrinkle_heights
 from studio.core.wrinkles.textures import flat_normal_map

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from studio.core.project.reader import load_project
-from studio.core.project.sample import sample_landmarks
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import sample_landmarks
 from studio.render.renderer import FaceRenderer
 from tests.gui_helpers import viewport_image, viewport_marks
 

@@ -8,7 +8,7 @@ import pytest
 from PIL import Image
 
 from studio.cli import main
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 from studio.render.offscreen import default_camera
 from tests.regions import landmark_pixels, region_difference
 from tests.test_cli import TEST_FACE

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project.sample_maps import BROW_MAP, EYE_MAP
+from studio.core.sample.maps import BROW_MAP, EYE_MAP
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings

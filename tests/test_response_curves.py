@@ -12,11 +12,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from studio.core.files.errors import MeshError, ProjectError
-from studio.core.project.export import export_folder
-from studio.core.project.gltf import load_gltf, save_gltf
+from studio.core.formats.export import export_folder
+from studio.core.formats.gltf.codec import load_gltf, save_gltf
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import make_test_face
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 from studio.core.wrinkles.response import LABELS, CurveBank, ResponseCurve, curves_from_dict
 from tests.test_project_file import make_project, members, rewrite
@@ -238,7 +238,7 @@ def test_the_glb_carries_the_curves_and_reads_them_back(small_curved, tmp_path: 
 
 def test_a_glb_with_a_damaged_curve_names_it(small_curved, tmp_path: Path,
                                              monkeypatch: pytest.MonkeyPatch) -> None:
-    from studio.core.project import gltf
+    from studio.core.formats.gltf import codec as gltf
 
     monkeypatch.setattr(gltf, "curves_to_dict", lambda _: {"smile": {"x": {"kind": "?"}}})
     save_gltf(small_curved, tmp_path / "bad.glb")

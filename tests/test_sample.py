@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project.sample import landmark_uvs, make_test_face, sample_landmarks
-from studio.core.project.sample_mesh import build_geometry
+from studio.core.sample.mesh import build_geometry
+from studio.core.sample.synthetic import landmark_uvs, make_test_face, sample_landmarks
 from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 
 pytestmark = pytest.mark.core

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 
 pytestmark = pytest.mark.core
 

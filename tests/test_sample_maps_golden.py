@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from studio.core.project.sample_maps import (
+from studio.core.sample.maps import (
     Texels,
     bake_normal_maps,
     paint_diffuse,

@@ -20,8 +20,8 @@ from pathlib import Path
 import pytest
 
 from studio.core.project.reader import load_project
-from studio.core.project.sample import make_test_face
 from studio.core.project.writer import backup_path, save_project
+from studio.core.sample.synthetic import make_test_face
 
 KILLS = int(os.environ.get("WRINKLE_SAVE_KILLS", "30"))
 ROOT = Path(__file__).resolve().parents[1]

@@ -169,7 +169,7 @@ def test_nearest_vertex_to_a_click():
 def test_selection_stays_fast_on_30000_vertices():
     """A box selection and the mirror map on a 30k-vertex face (their speed is measured by
     the studio's own timing in the status bar, not asserted here)."""
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
 
     mesh = make_test_face(30000, texture_size=16, mask_size=16).mesh
     pts = mesh.rest.astype(np.float64)

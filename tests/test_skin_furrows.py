@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from studio.core.project.ict_head import landmark_vertices
+from studio.core.sample.ict_head import landmark_vertices
 from studio.core.setup import wrinkle_synth as synth
 from studio.core.setup.face_frame import aim
 from studio.core.setup.sample_setup import sample_project

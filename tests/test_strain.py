@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.project.sample import make_test_face, sample_landmarks
+from studio.core.sample.synthetic import make_test_face, sample_landmarks
 from studio.core.wrinkles.strain import StrainField
 
 pytestmark = pytest.mark.core

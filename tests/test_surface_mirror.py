@@ -168,7 +168,7 @@ def test_the_brush_footprint_on_the_surface_is_the_uv_circle_carried_over():
 
 
 def test_on_the_sample_face_the_left_cheek_mirrors_onto_the_right_cheek():
-    from studio.core.project.sample import landmark_uvs, make_test_face
+    from studio.core.sample.synthetic import landmark_uvs, make_test_face
 
     mirror = SurfaceMirror(make_test_face().mesh)
     uvs = landmark_uvs()

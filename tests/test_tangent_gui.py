@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from studio.core.formats.gltf.codec import _Gltf
 from studio.core.mesh.geometry import DeformCache
-from studio.core.project.gltf import _Gltf
 from studio.widgets.maps.map_tools import MapTools
 from tests.gui_helpers import viewport_image
 

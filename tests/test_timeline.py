@@ -105,7 +105,7 @@ def test_from_dict_sorts_keys_and_rejects_bad_ranges():
 
 
 def test_the_sample_ships_with_an_animation_of_every_pose():
-    from studio.core.project.sample import POSES, make_test_face
+    from studio.core.sample.synthetic import POSES, make_test_face
 
     project = make_test_face()
     assert [t.pose for t in project.timeline.tracks] == list(POSES)

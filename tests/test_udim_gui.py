@@ -10,8 +10,8 @@ from PySide6.QtCore import QPointF, Qt
 from PySide6.QtWidgets import QPushButton
 
 from studio.core.files.images import read_image
-from studio.core.project.assemble import project_from_files
-from studio.core.project.export import export_folder
+from studio.core.formats.assemble import project_from_files
+from studio.core.formats.export import export_folder
 from tests.production_head import POSES, build_head
 
 

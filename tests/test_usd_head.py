@@ -18,8 +18,8 @@ import pytest
 
 from studio.cli import main
 from studio.core.files.errors import MeshError
+from studio.core.formats.usd.reader import load_usd
 from studio.core.project.reader import load_project
-from studio.core.project.usd.reader import load_usd
 from tests.test_blender_round_trip import changed_shares
 from tests.usd_heads import (
     INBETWEEN,
@@ -372,7 +372,7 @@ def test_sizes_over_the_budgets_are_refused_before_the_offsets_are_read(usd_file
                                                                         monkeypatch):
     """The file's size before it is opened; the points and the numbers every key pose will
     take before any blend shape is read; an image's decoded size before it is decoded."""
-    import studio.core.project.usd.meshes as meshes
+    import studio.core.formats.usd.meshes as meshes
 
     monkeypatch.setenv("WRINKLE_STUDIO_MAX_FILE_BYTES", "1000")
     with pytest.raises(MeshError, match=r"head\.usdc: the USD file is [\d,]+ bytes, more than"):

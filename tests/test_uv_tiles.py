@@ -7,6 +7,7 @@ import pytest
 
 from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
+from studio.core.formats.texture_sets import find_tile_set, load_texture
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import (
     SINGLE,
@@ -19,7 +20,6 @@ from studio.core.mesh.uv_tiles import (
     triangle_tiles,
     udim,
 )
-from studio.core.project.texture_sets import find_tile_set, load_texture
 
 pytestmark = pytest.mark.core
 

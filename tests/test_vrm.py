@@ -21,7 +21,7 @@ import pytest
 
 from studio.cli import main
 from studio.core.project.reader import load_project
-from studio.core.project.sample_mesh import EYE_X, EYE_Y, blob
+from studio.core.sample.mesh import EYE_X, EYE_Y, blob
 from tests.gltf_avatar import GlbDoc, _box
 from tests.production_head import _sphere, build_head
 from tests.test_full_body import judge_renders

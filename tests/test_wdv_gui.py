@@ -235,7 +235,7 @@ def test_box_and_click_select_on_a_30000_vertex_face(qtbot, dialogs):
     """A box drag and a click through the viewport on a 30k-vertex face pick what they cover.
     (How fast is the benchmark's business: a timing assert here failed on busy machines and
     passed on broken code alike.)"""
-    from studio.core.project.sample import make_test_face
+    from studio.core.sample.synthetic import make_test_face
 
     w = MainWindow(make_test_face(30000, texture_size=256, mask_size=64))
     w.resize(1600, 1000)

@@ -21,11 +21,11 @@ from scripts import web_picture
 from scripts.web_picture import changed, face_share
 from studio.cli import main
 from studio.commands.export import web_look
+from studio.core.formats.web_export import web_page
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.geometry import DeformCache
-from studio.core.project.sample import make_test_face
-from studio.core.project.web_export import web_page
 from studio.core.project.writer import save_project
+from studio.core.sample.synthetic import make_test_face
 from tests.visibility import least
 
 SIZE = 800  # the window: 800 × 800

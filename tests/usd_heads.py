@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from studio.core.files.images import write_png
-from studio.core.project.ict_head import expression_offsets, resource_path
+from studio.core.sample.ict_head import expression_offsets, resource_path
 
 POSES = ("browInnerUp_L", "browDown_L", "mouthSmile_L")
 INBETWEEN = ("browDown_L", 0.5, 0.6)  # (shape, weight, share of the full offsets it moves)

@@ -15,7 +15,7 @@ from studio.core.animation.pose_names import ARKIT_NAMES
 from studio.core.animation.poses import KeyPose
 from studio.core.animation.timeline import Key, Timeline, Track, sequence_all_poses
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.synthetic import make_test_face
 
 CAPTURE_FPS = 30.0
 CAPTURE_FRAMES = 120  # four seconds of take: the animation loops

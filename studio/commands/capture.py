@@ -1,6 +1,6 @@
 """``wrinkle-studio capture``: an ARKit blend-shape take (Live Link Face CSV, or a glTF animation
 of morph weights) keyed onto a project's timeline, as File ▸ Import Capture… does in the studio
-(studio/core/project/capture.py)."""
+(studio/core/formats/capture.py)."""
 
 from __future__ import annotations
 
@@ -39,7 +39,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from studio.core.files.safe_io import check_output
-    from studio.core.project.capture import apply_take, read_gltf_take, read_live_link_csv
+    from studio.core.formats.capture import apply_take, read_gltf_take, read_live_link_csv
     from studio.core.project.reader import load_project
     from studio.core.project.writer import save_project
 

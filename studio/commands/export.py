@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 from studio.core.engines.layouts import LAYOUTS
 
 if TYPE_CHECKING:
-    from studio.core.project.web_export import WebLook
+    from studio.core.formats.web_export import WebLook
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -40,8 +40,8 @@ def run(args: argparse.Namespace) -> int:
     from studio.core.engines.plan import LayoutError
     from studio.core.files.errors import StudioError
     from studio.core.files.safe_io import check_output, check_output_folder
-    from studio.core.project.export import export_folder
-    from studio.core.project.gltf import save_gltf
+    from studio.core.formats.export import export_folder
+    from studio.core.formats.gltf.codec import save_gltf
     from studio.core.project.reader import load_project
 
     if args.web:
@@ -80,9 +80,9 @@ def run_web(args: argparse.Namespace) -> int:
     ``render`` lights it, so that the page and the studio's picture of a pose agree."""
     from studio.core.files.errors import StudioError
     from studio.core.files.safe_io import check_output_folder
+    from studio.core.formats.web_export import export_web
     from studio.core.mesh.camera import OrbitCamera
     from studio.core.project.reader import load_project
-    from studio.core.project.web_export import export_web
     from studio.core.setup.face_frame import aim
 
     if args.layout:

@@ -67,7 +67,7 @@ def _obj_choice(args: argparse.Namespace, found: list[str]
     eyes, teeth and lashes not face), said in one line of ``found``; without ``--auto`` the
     line only suggests. What the user names wins: ``--keep`` replaces the parts left out,
     ``--not-face`` the parts not face."""
-    from studio.core.project.assemble import choose_obj_parts
+    from studio.core.formats.assemble import choose_obj_parts
 
     keep, not_face = args.keep, args.not_face or None
     choice = (choose_obj_parts(args.mesh, dict(args.pose))

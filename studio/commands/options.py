@@ -42,7 +42,7 @@ def load_project_or_sample(path: str | None, vertices: int | None):
     ``vertices`` the procedural test face at that resolution (the thesis's study)."""
     if path is None:
         if vertices:
-            from studio.core.project.sample import make_test_face
+            from studio.core.sample.synthetic import make_test_face
 
             return make_test_face(vertices)
         from studio.core.setup.sample_setup import sample_project

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from studio.core.formats.web_export import WebLook
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
-from studio.core.project.web_export import WebLook
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
 from studio.core.wrinkles.strain import DEFAULT_FULL_AT
 from studio.core.wrinkles.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define

@@ -43,10 +43,10 @@ from PySide6.QtWidgets import (
 )
 
 from studio.core.files.errors import StudioError
+from studio.core.formats.assemble import suggest_not_face, suggest_obj_choice
+from studio.core.formats.gltf.codec import gltf_parts
 from studio.core.mesh.file_kinds import MESHES, file_filter
 from studio.core.mesh.meshio import ObjGroup, obj_groups
-from studio.core.project.assemble import suggest_not_face, suggest_obj_choice
-from studio.core.project.gltf import gltf_parts
 from studio.core.project.model import Project
 from studio.core.setup.new_setup import NewSetup, new_project
 from studio.widgets.app_settings import remember_folder, settings, start_folder

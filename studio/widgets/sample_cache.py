@@ -22,8 +22,8 @@ from PySide6.QtCore import QStandardPaths
 
 from studio.core.files.errors import StudioError
 from studio.core.project import reader, writer
-from studio.core.project.ict_head import resource_path
 from studio.core.project.model import Project
+from studio.core.sample.ict_head import resource_path
 
 _CORE = Path(__file__).resolve().parents[1] / "core"
 

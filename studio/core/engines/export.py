@@ -20,14 +20,14 @@ from studio.core.engines.plan import MapSlot, MaskTexture, Plan, linked_poses, p
 from studio.core.files.atomic_write import write_atomic
 from studio.core.files.images import write_image
 from studio.core.files.safe_io import check_output
-from studio.core.project.export import (
+from studio.core.formats.export import (
     export_folder,
     make_folders,
     quantise,
     tile_copies,
     uv_tiles_note,
 )
-from studio.core.project.gltf import save_gltf
+from studio.core.formats.gltf.codec import save_gltf
 from studio.core.project.model import Project
 from studio.core.wrinkles.textures import resize_nearest
 

@@ -180,7 +180,7 @@ def merge_weakest(project: Project, plan: Plan) -> None:
 
 def own_maps(project: Project, folder: str = "maps") -> list[MapSlot]:
     """The project's wrinkled maps as they are, named as the studio's folder export names them."""
-    from studio.core.project.export import safe_name
+    from studio.core.formats.export import safe_name
 
     return [MapSlot(name, f"{folder}/wrinkled_{i}_{safe_name(name)}.png", source=name)
             for i, name in enumerate(project.textures.wrinkle_map_names)]

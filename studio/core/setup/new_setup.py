@@ -12,9 +12,9 @@ from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import NamedTuple
 
-from studio.core.project.assemble import project_from_files
+from studio.core.formats.assemble import project_from_files
+from studio.core.formats.vrm import leave_out_toggles
 from studio.core.project.model import Project
-from studio.core.project.vrm import leave_out_toggles
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import (
     FaceFrame,

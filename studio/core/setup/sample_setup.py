@@ -1,5 +1,5 @@
 """The bundled sample as the studio opens on it: the ICT-FaceKit head
-(studio.core.project.ict_head) set up for wrinkles the way a user would set up their own head —
+(studio.core.sample.ict_head) set up for wrinkles the way a user would set up their own head —
 the automatic set-up of its wrinkling expressions — with a timeline that plays a few whole
 expressions. Built at start in a few seconds, from the 3.6 MB resource alone."""
 
@@ -10,8 +10,8 @@ from collections.abc import Callable
 from functools import lru_cache
 
 from studio.core.animation.timeline import Key, Timeline
-from studio.core.project.ict_head import load_ict_head
 from studio.core.project.model import Project
+from studio.core.sample.ict_head import load_ict_head
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import face_frame, face_locator
 from studio.core.setup.stage_clock import stage

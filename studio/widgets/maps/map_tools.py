@@ -238,7 +238,7 @@ class MapTools:
             self.window, "Export glTF", self._beside_project(f"{self.doc.display_name}.glb"),
             "Binary glTF (*.glb)")
         if name:
-            from studio.core.project.gltf import save_gltf
+            from studio.core.formats.gltf.codec import save_gltf
 
             path = Path(name) if name.lower().endswith(".glb") else Path(name + ".glb")
             self._export(lambda: save_gltf(self.doc.project, path,
@@ -247,7 +247,7 @@ class MapTools:
     def export_web(self) -> None:
         """File ▸ Export ▸ Web Page…: the face as the viewport shows it now (camera, light,
         blend, tangent frame), with its timeline, in one self-contained index.html that any
-        browser opens without a network (core/project/web_export.py). The folder is named in a
+        browser opens without a network (core/formats/web_export.py). The folder is named in a
         save dialog, which takes a new name typed in it (a folder dialog takes only folders
         that exist); an existing folder chosen there is written into."""
         folder, _ = QFileDialog.getSaveFileName(
@@ -257,7 +257,7 @@ class MapTools:
         if not folder:
             return
         from studio.core.files.safe_io import check_output_folder
-        from studio.core.project.web_export import export_web
+        from studio.core.formats.web_export import export_web
         from studio.render.settings import web_look
 
         def write() -> None:

@@ -1,4 +1,4 @@
-"""File ▸ Import Capture…: a facial capture take (studio/core/project/capture.py) keyed onto the
+"""File ▸ Import Capture…: a facial capture take (studio/core/formats/capture.py) keyed onto the
 timeline as one undo step, with a report of what matched and what did not.
 
 Why a report every time: a take names its shapes in ARKit's spelling and a rig in its own, so
@@ -14,7 +14,7 @@ from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import QFileDialog, QMessageBox
 
 from studio.core.files.errors import Cancelled, StudioError
-from studio.core.project.capture import import_capture
+from studio.core.formats.capture import import_capture
 from studio.widgets.app_settings import settings
 from studio.widgets.background import run_with_progress
 from studio.widgets.timeline.edits import TimelineState

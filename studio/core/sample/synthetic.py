@@ -23,7 +23,7 @@ from studio.core.animation.poses import KeyPose
 from studio.core.animation.timeline import sequence_all_poses
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.model import Project
-from studio.core.project.sample_maps import (
+from studio.core.sample.maps import (
     BROW_MAP,
     EYE_MAP,
     Texels,
@@ -31,7 +31,7 @@ from studio.core.project.sample_maps import (
     paint_diffuse,
     paint_masks,
 )
-from studio.core.project.sample_mesh import (
+from studio.core.sample.mesh import (
     BROW_Y,
     CORNER_X,
     CORNER_Y,

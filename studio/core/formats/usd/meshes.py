@@ -21,11 +21,11 @@ import numpy as np
 
 from studio.core.files.budgets import GLTF_VALUES, MESH_TRIANGLES, MESH_VERTICES, POSES
 from studio.core.files.errors import MeshError
-from studio.core.project.gltf_scene import MeshNode
-from studio.core.project.polygons import PolygonMesh, primitives
-from studio.core.project.usd.materials import FaceMaterials, face_materials, uv_name
-from studio.core.project.usd.shapes import read_shape, shape_plan
-from studio.core.project.usd.stage import StageFrame
+from studio.core.formats.gltf.scene import MeshNode
+from studio.core.formats.polygons import PolygonMesh, primitives
+from studio.core.formats.usd.materials import FaceMaterials, face_materials, uv_name
+from studio.core.formats.usd.shapes import read_shape, shape_plan
+from studio.core.formats.usd.stage import StageFrame
 
 Array = np.ndarray
 UV_TYPES = ("texCoord2f[]", "texCoord2d[]", "texCoord2h[]", "float2[]", "double2[]")

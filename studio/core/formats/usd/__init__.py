@@ -5,7 +5,7 @@ A stage opens like a glTF or FBX head: every visible mesh placed in the world (a
 its skeleton's bind pose), ``UsdSkelBlendShape`` targets (and each in-between, a key pose of its
 own) as key poses, ``primvars:st`` (any interpolation, indexed or not) as UVs, and each
 ``UsdPreviewSurface``'s ``diffuseColor`` texture as the albedo; the face is then found among the
-meshes as a glTF's is (core/project/gltf_face.py). The stage's ``upAxis`` and ``metersPerUnit``
+meshes as a glTF's is (core/formats/gltf/face.py). The stage's ``upAxis`` and ``metersPerUnit``
 are read: a Z-up stage is turned Y up, lengths stay in the stage's unit and it is said.
 
 Self-contained: it shares only the glTF path's face finding (gltf_face.py), the polygon

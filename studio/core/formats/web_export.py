@@ -35,10 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from studio.core.files.atomic_write import write_atomic
+from studio.core.formats.export import quantise
+from studio.core.formats.gltf.animation import pose_weights, sample_frames
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.geometry import DeformCache
-from studio.core.project.export import quantise
-from studio.core.project.gltf_animation import pose_weights, sample_frames
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import curve_of
 from studio.core.wrinkles.textures import pack_more_maps, pack_normal_maps

@@ -3,7 +3,7 @@ node's ``matrix`` or translation, rotation and scale, applied parent to child), 
 shows and every triangle primitive of it (lists, strips and fans), with its morph targets, its
 material and UVs (the TEXCOORD set its base-colour texture reads, through KHR_texture_transform).
 A primitive without UVs is read too (``has_uvs`` False, its UVs zero): a face that has none gets
-them made once it is merged (core/project/gltf.py), so a file exported without a UV map opens;
+them made once it is merged (core/formats/gltf/codec.py), so a file exported without a UV map opens;
 one beside primitives that have UVs and that no morph target moves (an untextured prop) is left
 out, as it always was.
 
@@ -23,7 +23,7 @@ from studio.core.animation.poses import coordinate_problem
 from studio.core.files.budgets import GLTF_VALUES, MESH_VERTICES, POSES
 from studio.core.files.errors import MeshError
 from studio.core.files.naming import shown
-from studio.core.project.gltf_container import _Gltf, _item, _list, _whole
+from studio.core.formats.gltf.container import _Gltf, _item, _list, _whole
 
 Array = np.ndarray
 TRIANGLES, STRIP, FAN = 4, 5, 6

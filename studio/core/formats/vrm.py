@@ -27,8 +27,8 @@ from studio.core.animation.poses import KeyPose
 from studio.core.files.budgets import POSES
 from studio.core.files.errors import MeshError
 from studio.core.files.naming import shown
-from studio.core.project.face_parts import name_words
-from studio.core.project.gltf_scene import target_names
+from studio.core.formats.face_parts import name_words
+from studio.core.formats.gltf.scene import target_names
 from studio.core.project.model import Project
 
 Array = np.ndarray

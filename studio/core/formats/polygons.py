@@ -3,7 +3,7 @@
 FBX and USD both give a mesh as polygons of any size over a list of points, a UV per corner
 through an index (so a seam is two UVs on one point), a material per polygon and blend shapes
 as sparse offsets of the points. The face is found and merged the glTF way
-(core/project/gltf_face.py), which wants triangle primitives with render vertices: so the
+(core/formats/gltf/face.py), which wants triangle primitives with render vertices: so the
 corners are split per (point, UV) pair, polygons fanned, and the triangles cut by material,
 once here for both readers.
 """
@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from studio.core.formats.gltf.scene import Primitive
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.unwrap import unwrap
-from studio.core.project.gltf_scene import Primitive
 
 Array = np.ndarray
 

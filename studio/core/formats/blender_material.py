@@ -15,7 +15,7 @@ from __future__ import annotations
 import json
 from itertools import pairwise
 
-from studio.core.project.gltf import VERTEX_DATA, image_names
+from studio.core.formats.gltf.codec import VERTEX_DATA, image_names
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import ResponseCurve, curve_of
 from studio.paths import resource_dir

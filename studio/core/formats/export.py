@@ -15,8 +15,8 @@ import numpy as np
 from studio.core.files.atomic_write import write_atomic
 from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
-from studio.core.project.blender_material import SCRIPT, blender_script, blender_setup
-from studio.core.project.gltf import save_gltf, wdv_attributes
+from studio.core.formats.blender_material import SCRIPT, blender_script, blender_setup
+from studio.core.formats.gltf.codec import save_gltf, wdv_attributes
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import curves_to_dict
 from studio.paths import shader_dir

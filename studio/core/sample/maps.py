@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 from PIL import Image
 
-from studio.core.project.sample_mesh import (
+from studio.core.sample.mesh import (
     A_UV,
     BROW_Y,
     CORNER_X,

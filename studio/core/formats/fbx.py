@@ -10,7 +10,7 @@ when garbage-collected, so the file is read in a child process that copies every
 writes them to an .npz and exits without collecting (``os._exit``). A crash there is one line
 naming the file, never the studio going down.
 
-The file's scene then goes the glTF way (core/project/gltf_face.py): each mesh instance a
+The file's scene then goes the glTF way (core/formats/gltf/face.py): each mesh instance a
 ``MeshNode``, placed in world space by its node's transform (a skeleton's bind pose included),
 each material a primitive, each blend channel a morph target; the face is found among the
 meshes by the targets that move them, eyes and teeth suggested as not face. Axes come from the
@@ -31,10 +31,10 @@ import numpy as np
 
 from studio.core.files.budgets import FILE_BYTES, MESH_TRIANGLES, MESH_VERTICES
 from studio.core.files.errors import MeshError
-from studio.core.project.gltf_face import choose_face, merge_face, report_lines
-from studio.core.project.gltf_scene import MeshNode
+from studio.core.formats.gltf.face import choose_face, merge_face, report_lines
+from studio.core.formats.gltf.scene import MeshNode
+from studio.core.formats.polygons import PolygonMesh, primitives, unwrapped
 from studio.core.project.model import Project
-from studio.core.project.polygons import PolygonMesh, primitives, unwrapped
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
@@ -91,7 +91,7 @@ def _axes_matrix(path: Path, axes: list[int]) -> Array:
 
 
 def _mesh_node(data, i: int, to_studio: Array) -> MeshNode:
-    """One mesh instance as the glTF path's ``MeshNode`` (core/project/polygons.py: corners
+    """One mesh instance as the glTF path's ``MeshNode`` (core/formats/polygons.py: corners
     split per (vertex, UV), polygons fanned, one primitive per material)."""
     world = np.asarray(data[f"m{i}_matrix"], np.float64).reshape(4, 4)
     linear = to_studio @ world[:3, :3]
@@ -118,7 +118,7 @@ def _read_in_child(path: Path) -> dict[str, Array]:
     with tempfile.TemporaryDirectory(prefix="wrinkle-fbx-") as folder:
         out = Path(folder) / "scene.npz"
         try:
-            done = subprocess.run([sys.executable, "-m", "studio.core.project.fbx", str(path),
+            done = subprocess.run([sys.executable, "-m", "studio.core.formats.fbx", str(path),
                                    str(out)], capture_output=True, text=True,
                                   timeout=CHILD_SECONDS, env={**os.environ, "PYTHONPATH": _root()})
         except subprocess.TimeoutExpired:

@@ -20,18 +20,18 @@ import numpy as np
 
 from studio.core.animation.poses import NEUTRAL
 from studio.core.files.errors import MeshError
+from studio.core.formats.face_parts import Part, choose_parts, suggest_names, suggest_parts
+from studio.core.formats.fbx import load_fbx
+from studio.core.formats.gltf.codec import load_gltf
+from studio.core.formats.gltf.container import _Gltf
+from studio.core.formats.texture_sets import load_texture
+from studio.core.formats.usd import is_usd
+from studio.core.formats.usd.reader import load_usd
+from studio.core.formats.vrm import SUFFIX as VRM_SUFFIX
+from studio.core.formats.vrm import apply_expressions, check_suffix, vrm_info, vrm_target_names
 from studio.core.mesh.meshio import KINDS, load_mesh, load_pose, not_face_vertices, obj_groups
 from studio.core.mesh.uv_tiles import FIRST_TILE, TileLayout, atlas_size, compose_atlas, pack_mesh
-from studio.core.project.face_parts import Part, choose_parts, suggest_names, suggest_parts
-from studio.core.project.fbx import load_fbx
-from studio.core.project.gltf import load_gltf
-from studio.core.project.gltf_container import _Gltf
 from studio.core.project.model import Project
-from studio.core.project.texture_sets import load_texture
-from studio.core.project.usd import is_usd
-from studio.core.project.usd.reader import load_usd
-from studio.core.project.vrm import SUFFIX as VRM_SUFFIX
-from studio.core.project.vrm import apply_expressions, check_suffix, vrm_info, vrm_target_names
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
 
 FLAT_NORMAL = (128, 128, 255)
@@ -205,7 +205,7 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
 
 
 def _vrm_expressions(project: Project, path: str | Path, report: list[str]) -> None:
-    """A VRM's expressions as the key poses and its axes (core/project/vrm.py). A file of
+    """A VRM's expressions as the key poses and its axes (core/formats/vrm.py). A file of
     another suffix is read again only when it names a VRM extension (one renamed .glb)."""
     if project.influence.areas or project.wdv.areas:  # the studio's own file, set up already
         return

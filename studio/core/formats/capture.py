@@ -362,7 +362,7 @@ GLTF_SUFFIXES = (".glb", ".gltf")
 def read_gltf_take(path: str | Path) -> Take:
     """The morph-weight animation of a glTF file as a take: one column per morph target (named
     by the mesh's ``extras.targetNames``), its keys as samples, from its first key on."""
-    from studio.core.project.gltf import load_weight_animation
+    from studio.core.formats.gltf.codec import load_weight_animation
 
     path = Path(path)
     names, times, values = load_weight_animation(path)

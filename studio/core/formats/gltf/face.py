@@ -2,7 +2,7 @@
 
 An avatar file holds a whole character: head, eyes, teeth, hair, glasses, body, clothes. The
 face is found by itself: the meshes with morph targets that move them (the poses' meshes); of
-those, the parts that are eyes, teeth, tongue or lashes (core/project/face_parts.py: names,
+those, the parts that are eyes, teeth, tongue or lashes (core/formats/face_parts.py: names,
 small closed shells, rigid motion) are kept but marked not face; meshes without morph targets
 (body, hair, clothes, glasses) are left out. ``keep`` and ``not_face`` (mesh, node or material
 names; ``kind`` "mesh" or "material" to match one kind only) replace either choice. A file with
@@ -23,10 +23,10 @@ import numpy as np
 from studio.core.animation.poses import KeyPose
 from studio.core.files.budgets import POSES
 from studio.core.files.errors import MeshError
+from studio.core.formats.face_parts import Part, suggest_parts
+from studio.core.formats.gltf.scene import MeshNode
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.meshio import ObjGroup
-from studio.core.project.face_parts import Part, suggest_parts
-from studio.core.project.gltf_scene import MeshNode
 
 Array = np.ndarray
 KINDS = ("mesh", "material")

@@ -18,7 +18,7 @@ images, further wrinkled maps, which map each area reveals, links, cone angles, 
 tangent frame) rides in ``extras.wrinkleStudio``, its images named (not numbered), so a file
 exported here imports back with nothing lost. A re-export by another tool that drops extras and
 custom attributes (Blender, with any options) still does: ``TEXCOORD_1`` and a chunk of the
-neutral normal map's PNG carry the set-up (core/project/gltf_carry.py), and the reader says what
+neutral normal map's PNG carry the set-up (core/formats/gltf/carry.py), and the reader says what
 it could not bring back. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
 ``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``; images by index) still open.
 """
@@ -37,16 +37,10 @@ from studio.core.animation.timeline import Timeline
 from studio.core.files.budgets import POSES
 from studio.core.files.errors import MeshError
 from studio.core.files.png import encode_png
-from studio.core.mesh.face_mesh import FaceMesh
-from studio.core.mesh.geometry import DeformCache
-from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
-from studio.core.mesh.tangent_frames import TANGENT_FRAMES
-from studio.core.mesh.unwrap import Unwrapped, unwrap
-from studio.core.mesh.uv_tiles import TileLayout, UvTiles
-from studio.core.project.gltf_animation import animation_spec, timeline_from_animation
-from studio.core.project.gltf_carry import STUDIO_UV, find_setup, studio_uvs, with_setup
-from studio.core.project.gltf_container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
-from studio.core.project.gltf_face import (
+from studio.core.formats.gltf.animation import animation_spec, timeline_from_animation
+from studio.core.formats.gltf.carry import STUDIO_UV, find_setup, studio_uvs, with_setup
+from studio.core.formats.gltf.container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
+from studio.core.formats.gltf.face import (
     FaceChoice,
     MergedFace,
     choose_face,
@@ -54,7 +48,7 @@ from studio.core.project.gltf_face import (
     report_lines,
     scene_groups,
 )
-from studio.core.project.gltf_materials import (
+from studio.core.formats.gltf.materials import (
     _rgb,
     atlas_textures,
     image_data,
@@ -63,7 +57,13 @@ from studio.core.project.gltf_materials import (
     texture_source,
     wrinkle_image,
 )
-from studio.core.project.gltf_scene import scene_meshes
+from studio.core.formats.gltf.scene import scene_meshes
+from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.mesh.geometry import DeformCache
+from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
+from studio.core.mesh.tangent_frames import TANGENT_FRAMES
+from studio.core.mesh.unwrap import Unwrapped, unwrap
+from studio.core.mesh.uv_tiles import TileLayout, UvTiles
 from studio.core.project.model import Project
 from studio.core.project.view_settings import saved_view
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
@@ -99,7 +99,7 @@ def load_gltf(path: str | Path, keep: Collection[str] | None = None,
     """A project from a glTF 2.0 file (.glb or .gltf).
 
     A file the studio wrote comes back as it was. Any other is a scene whose face is found
-    (core/project/gltf_face.py): ``keep`` and ``not_face`` name meshes, nodes or materials
+    (core/formats/gltf/face.py): ``keep`` and ``not_face`` name meshes, nodes or materials
     (``kind`` "mesh" or "material": that kind only) to replace the choice found or suggested;
     what was chosen and why is appended to ``report``, a line each.
     """
@@ -127,7 +127,7 @@ def _studio_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
     """The studio's own export: (its extras, the per-welded-vertex data carried beside them),
     None for another tool's file. Its extras at the root, or its welded numbering on a
     primitive (no arrays: the attributes hold them); else, re-exported by a tool that drops
-    extras (Blender), the set-up its neutral normal map carries (core/project/gltf_carry.py)."""
+    extras (Blender), the set-up its neutral normal map carries (core/formats/gltf/carry.py)."""
     extras = g.doc.get("extras", {}).get(EXTRAS_KEY)
     if extras is not None:
         return extras, {}
@@ -197,7 +197,7 @@ def _made_uvs(g: _Gltf, choice: FaceChoice, merged: MergedFace) -> Unwrapped | N
     """The merged face unwrapped by xatlas when none of its primitives has UVs, else None.
 
     The face is unwrapped once, merged (as an FBX's is): its morph targets are key poses over
-    the welded vertices (core/project/gltf_face.py), and xatlas keeps the welded vertices and
+    the welded vertices (core/formats/gltf/face.py), and xatlas keeps the welded vertices and
     the triangles in their order, so the poses and the not-face flags still fit. A face of
     which only some primitives have UVs is refused, naming those that have none: made UVs
     beside given ones would put both in one unit square, and the given maps would no longer
@@ -434,7 +434,7 @@ def _wdv_data(g: _Gltf, attrs: dict, n: int, first: Array, carried: dict[str, Ar
 
 def carried_arrays(project: Project) -> dict[str, Array]:
     """What the custom attributes hold, per welded vertex, for the neutral normal map to carry
-    through a tool that drops them (core/project/gltf_carry.py)."""
+    through a tool that drops them (core/formats/gltf/carry.py)."""
     out: dict[str, Array] = {}
     if project.not_face is not None:
         out["not_face"] = project.not_face
@@ -558,7 +558,7 @@ def vertex_attributes(project: Project) -> dict[str, Array]:
 
 def image_names(project: Project) -> tuple[list[str], list[str]]:
     """The names the export gives the wrinkled maps' and the masks' images. The studio's extras
-    (and the Blender script, core/project/blender_material.py) refer to images by these: other
+    (and the Blender script, core/formats/blender_material.py) refer to images by these: other
     tools keep names and renumber images."""
     return (["normal_wrinkled", *(f"wrinkled: {name}"
                                   for name in project.textures.wrinkle_map_names[1:])],

@@ -15,13 +15,13 @@ from pathlib import Path
 import numpy as np
 
 from studio.core.files.errors import MeshError
-from studio.core.project.gltf_face import FaceChoice, choose_face, merge_face, report_lines
-from studio.core.project.gltf_materials import _rgb
+from studio.core.formats.gltf.face import FaceChoice, choose_face, merge_face, report_lines
+from studio.core.formats.gltf.materials import _rgb
+from studio.core.formats.polygons import unwrapped
+from studio.core.formats.usd.materials import Diffuse, ImageBudget, diffuse_image, texture_path
+from studio.core.formats.usd.meshes import UsdMesh, read_meshes
+from studio.core.formats.usd.stage import heard, listen, open_stage, stage_frame, usd_reason
 from studio.core.project.model import Project
-from studio.core.project.polygons import unwrapped
-from studio.core.project.usd.materials import Diffuse, ImageBudget, diffuse_image, texture_path
-from studio.core.project.usd.meshes import UsdMesh, read_meshes
-from studio.core.project.usd.stage import heard, listen, open_stage, stage_frame, usd_reason
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 

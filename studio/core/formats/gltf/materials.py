@@ -14,6 +14,9 @@ from __future__ import annotations
 import numpy as np
 
 from studio.core.files.errors import MeshError
+from studio.core.formats.gltf.container import _Gltf, _item, _list, _whole
+from studio.core.formats.gltf.face import FaceChoice, MergedFace
+from studio.core.formats.gltf.scene import Primitive
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import (
     FIRST_TILE,
@@ -23,9 +26,6 @@ from studio.core.mesh.uv_tiles import (
     pack_mesh,
     tile_origin,
 )
-from studio.core.project.gltf_container import _Gltf, _item, _list, _whole
-from studio.core.project.gltf_face import FaceChoice, MergedFace
-from studio.core.project.gltf_scene import Primitive
 from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
@@ -56,7 +56,7 @@ def texture_source(g: _Gltf, info: dict) -> int:
 
 def image_data(g: _Gltf, index: int) -> bytes | None:
     """An image's encoded bytes as the file holds them (None for an image behind a URI): what
-    rides in them beside the pixels (core/project/gltf_carry.py) is read from these."""
+    rides in them beside the pixels (core/formats/gltf/carry.py) is read from these."""
     spec = _item(g, "images", index)
     if "bufferView" not in spec:
         return None
