@@ -17,12 +17,12 @@ import numpy as np
 
 from studio.bench.poses import with_arkit_poses
 from studio.core.animation.poses import KeyPose
+from studio.core.formats.gltf.codec import save_gltf
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.meshio import save_obj
-from studio.core.project.gltf import save_gltf
-from studio.core.project.ict_head import load_ict_head
 from studio.core.project.model import Project
-from studio.core.project.sample import make_test_face
+from studio.core.sample.ict_head import load_ict_head
+from studio.core.sample.synthetic import make_test_face
 from studio.core.wrinkles.textures import flat_normal_map
 
 Array = np.ndarray
