@@ -35,7 +35,6 @@ along the furrow. Steps:
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -44,6 +43,7 @@ from functools import partial
 import numpy as np
 from PIL import Image
 
+from studio.core.files.cores import usable_cores
 from studio.core.files.errors import StudioError
 from studio.core.files.images import to_unit_float
 from studio.core.files.naming import unique_name
@@ -708,11 +708,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
 def pose_workers() -> int:
     """Threads for the poses' fields: the cores this process may use, at most
     ``MAX_POSE_WORKERS`` (each holds a pose's work-size images and its Poisson grid)."""
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(cores, MAX_POSE_WORKERS))
+    return usable_cores(MAX_POSE_WORKERS)
 
 
 def _surface_variation(mesh: FaceMesh, raster: UvRaster, skin: Array | None,
