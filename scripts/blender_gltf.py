@@ -1,7 +1,8 @@
 """Blender's glTF importer (and exporter) run over files, as a user of stock Blender would.
 
     python scripts/blender_gltf.py IN.glb [IN2.glb ...]
-    python scripts/blender_gltf.py IN.glb --export OUT.glb [--extras]
+    python scripts/blender_gltf.py IN.glb --export OUT.glb [--extras] [--rename OLD=NEW]
+        [--images JPEG|WEBP] [--move]
 
 Needs the ``bpy`` package (the test extra). For each file it imports into an empty scene and
 prints one JSON line (after ``MARK``): whether the import worked (and Blender's error if not),
@@ -9,7 +10,9 @@ each mesh object's vertices, shape keys, UV layers, materials with their image n
 attributes and the scene's actions; with ``--keys`` also every shape key's coordinates (in glTF
 axes, Y up), each loop's UV and each shape key's keyframe values. With ``--export`` it then
 writes what it imported back out with Blender's default glTF options (``--extras``: with custom
-properties too).
+properties too). The edits a person makes before exporting: ``--rename`` a shape key,
+``--images`` written as JPEG or WebP (the exporter's Images option), ``--move`` the object
+(moved, turned and scaled, not applied).
 
 Why a script run in a subprocess: importing bpy loads all of Blender into the process (and a
 crash inside it must not take the test run with it), and each file wants a fresh scene.
@@ -104,10 +107,30 @@ def _keyed_values(bpy) -> dict[str, list[float]]:
     return out
 
 
-def export_file(path: str, extras: bool) -> None:
+def edit(args: argparse.Namespace) -> None:
+    """What a person does in Blender between the import and the export."""
     import bpy
 
-    bpy.ops.export_scene.gltf(filepath=path, export_format="GLB", export_extras=extras)
+    meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+    for rename in args.rename:
+        old, new = rename.split("=", 1)
+        for obj in meshes:
+            keys = obj.data.shape_keys
+            if keys is not None and old in keys.key_blocks:
+                keys.key_blocks[old].name = new
+    if args.move:
+        for obj in meshes:
+            obj.location = (0.05, -0.02, 0.1)
+            obj.rotation_mode = "XYZ"  # the importer leaves quaternions on
+            obj.rotation_euler = (0.0, 0.0, 0.3)
+            obj.scale = (1.5, 1.5, 1.5)
+
+
+def export_file(path: str, extras: bool, images: str) -> None:
+    import bpy
+
+    bpy.ops.export_scene.gltf(filepath=path, export_format="GLB", export_extras=extras,
+                              export_image_format=images)
 
 
 def main() -> int:
@@ -118,6 +141,12 @@ def main() -> int:
                                          "Blender's default glTF export options")
     parser.add_argument("--extras", action="store_true",
                         help="with --export: include custom properties (glTF extras)")
+    parser.add_argument("--rename", action="append", default=[], metavar="OLD=NEW",
+                        help="with --export: rename a shape key first")
+    parser.add_argument("--images", choices=("AUTO", "JPEG", "WEBP"), default="AUTO",
+                        help="with --export: the exporter's Images option")
+    parser.add_argument("--move", action="store_true",
+                        help="with --export: move, turn and scale the object, not applied")
     args = parser.parse_args()
     import bpy
 
@@ -126,7 +155,8 @@ def main() -> int:
         report = import_file(path, args.keys)
         emit(report)
         if args.export and report["ok"]:
-            export_file(args.export, args.extras)
+            edit(args)
+            export_file(args.export, args.extras, args.images)
     return 0
 
 

@@ -19,6 +19,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     target.add_argument("--gltf", help="binary glTF file to write (.glb)")
     target.add_argument("--folder", help="folder for face.glb, mask PNGs, wrinkles.json, GLSL "
                                           "and blender_wrinkles.py (technique 1 in Blender)")
+    target.add_argument("--usd", metavar="FILE.usdz",
+                        help="USD package to write (.usdz): the mesh, its blend shapes, the "
+                             "maps and masks, the set-up as custom data")
     target.add_argument("--web", metavar="DIR",
                         help="folder for index.html: a page that plays the face with both "
                              "techniques in any browser, offline (?pose=NAME&weight=W&"
@@ -46,6 +49,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.web:
         return run_web(args)
+    if args.usd:
+        return run_usd(args)
     if args.gltf:
         if args.layout:
             raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
@@ -72,6 +77,24 @@ def run(args: argparse.Namespace) -> int:
     else:
         files = export_folder(project, args.folder, args.bits)
         print(f"wrote {len(files)} files to {args.folder}")
+    return 0
+
+
+def run_usd(args: argparse.Namespace) -> int:
+    """The face as one USD package (core/formats/usd/writer.py)."""
+    from studio.core.files.errors import StudioError
+    from studio.core.files.safe_io import check_output
+    from studio.core.formats.usd.writer import save_usdz
+    from studio.core.project.reader import load_project
+
+    if args.layout:
+        raise StudioError("--layout needs --folder: a layout is several textures and a sheet")
+    if Path(args.usd).suffix.lower() != ".usdz":
+        raise StudioError("--usd writes a .usdz package (the stage and its textures in one "
+                          "file): name the file .usdz", args.usd)
+    check_output(args.usd, [args.project], what="USD package")
+    save_usdz(load_project(Path(args.project)), Path(args.usd))
+    print(f"wrote {args.usd}")
     return 0
 
 

@@ -35,6 +35,7 @@ class Document(QObject):
     masksChanged = Signal()  # technique-1 mask stack replaced (size or count changed)
     maskRegionChanged = Signal(int, int, int, int, int)  # layer, x, y, w, h (image pixels)
     wdvChanged = Signal()  # technique-2 areas, vectors, cone angles
+    furrowsChanged = Signal()  # the synthesised furrows' controls (the maps follow them)
     wdvSettingsChanged = Signal()  # technique 2's expression factor (a uniform, not the slots)
     selectionChanged = Signal()  # selected vertices (welded indices)
     timelineChanged = Signal()  # keys, interpolation, range, frame rate

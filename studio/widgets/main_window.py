@@ -30,6 +30,7 @@ from studio.widgets.document import Document
 from studio.widgets.getting_started import install_getting_started
 from studio.widgets.maps.auto_tools import install_auto_tools
 from studio.widgets.maps.bake_tools import install_bake_tools
+from studio.widgets.maps.furrow_controls import install_furrow_controls
 from studio.widgets.maps.map_tools import install_map_tools
 from studio.widgets.paint.tools import install_mask_tools
 from studio.widgets.timeline.capture_tools import install_capture_tools
@@ -43,7 +44,7 @@ from studio.widgets.wheel_guard import install_wheel_guard
 PROJECT_FILTER = "Wrinkle Studio projects (*.wrinkle)"
 MAX_RECENT = 10
 # The default layout: these panels as tabs in one right-hand column, in this order.
-RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "UV Paint")
+RIGHT_TABS = ("Poses", "Shading", "Areas", "Wrinkle vectors", "Furrows", "UV Paint")
 FRAME_TEXT = "frame {:.1f} ms ({:.0f} FPS)"
 SIDE_WIDTH = 360  # pixels: the right-hand column (a pose slider gets 100 of them)
 TIMELINE_HEIGHT = 200  # pixels: the timeline strip under the viewport
@@ -114,6 +115,7 @@ class MainWindow(QMainWindow):
         add_timeline_menu_entries(self)  # File ▸ Export Animation… (after Export), View
         install_bake_tools(self)  # Maps ▸ Bake from a high-poly mesh, needs Maps
         install_auto_tools(self)  # Tools menu: auto setup, strain → areas, wrinkle synthesis
+        install_furrow_controls(self)  # the Furrows dock and Maps ▸ Furrow Controls
         install_capture_tools(self)  # File ▸ Import Capture…, needs the menus and timeline
         keep_dock_tab_words(self)  # (before the docks are tabbed: their bars are made then)
         self._arrange_docks()

@@ -20,6 +20,9 @@ Array = np.ndarray
 # load_project applies them in turn, so a file of any older version reaches FORMAT_VERSION.
 MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     1: lambda doc: doc,  # 2 adds optional keys only: several wrinkled maps, not-face, cones
+    2: lambda doc: {**doc, "furrows": doc.get("furrows", {})},  # 3: the furrow controls,
+    # all at 1 (the maps as they were synthesised); no records: a map synthesised before
+    # version 3 is kept as it is, like one the user made
 }
 
 

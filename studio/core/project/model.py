@@ -12,6 +12,7 @@ from studio.core.animation.timeline import Timeline
 from studio.core.files.errors import StudioError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import UvTiles
+from studio.core.wrinkles.furrow_controls import FurrowSettings
 from studio.core.wrinkles.influence import InfluenceSetup
 from studio.core.wrinkles.textures import FaceTextures
 from studio.core.wrinkles.wdv import WdvSetup
@@ -34,6 +35,8 @@ class Project:
     not_face: np.ndarray | None = None
     # UDIM tiles packed into the 0–1 atlas the mesh's UVs are in; None = one tile as imported
     uv_tiles: UvTiles | None = None
+    # the synthesised furrows' controls (depth, spacing, sharpness) and their maps' records
+    furrows: FurrowSettings = field(default_factory=FurrowSettings)
 
     def __post_init__(self) -> None:
         for pose in self.poses:

@@ -53,6 +53,7 @@ from studio.core.project.schema import (
     pose_member,
     wrinkled_member,
 )
+from studio.core.wrinkles.furrow_controls import FurrowSettings
 from studio.core.wrinkles.influence import InfluenceArea, InfluenceSetup
 from studio.core.wrinkles.response import curves_from_dict
 from studio.core.wrinkles.textures import DEFAULT_WRINKLE_MAP, MAX_WRINKLE_MAPS, FaceTextures
@@ -369,7 +370,7 @@ class _Loader:
         timeline = self.timeline(doc["timeline"]) if "timeline" in doc else Timeline()
         project = Project(name, mesh, poses, textures, influence=influence, wdv=wdv,
                           timeline=timeline, view=view, not_face=not_face,
-                          uv_tiles=uv_tiles)
+                          uv_tiles=uv_tiles, furrows=self.furrows(doc.get("furrows", {})))
         unknown = {k: v for k, v in doc.items() if k not in KNOWN_KEYS}
         project.extra.update(unknown)
         check_project(project, self.path)  # names, links, WDV and timeline poses together
@@ -404,6 +405,12 @@ class _Loader:
         for i, map_name in enumerate(names[1:], start=1):
             maps[map_name] = self.image(wrinkled_member(i), f"wrinkled map '{map_name}'", False)
         return FaceTextures(diffuse, neutral, wrinkle_maps=maps)
+
+    def furrows(self, doc: Any) -> FurrowSettings:
+        try:
+            return FurrowSettings.from_dict(doc)
+        except ValueError as exc:
+            self.fail(f"project.json: the furrow settings are malformed ({exc})")
 
     def timeline(self, doc: Any) -> Timeline:
         doc = self.value(doc, "object", "timeline")

@@ -25,7 +25,7 @@ Layout (every name relative to the archive root)::
 
 ``project.json``::
 
-    {"format": "wrinkle-studio-project", "version": 2, "name": "...",
+    {"format": "wrinkle-studio-project", "version": 3, "name": "...",
      "mesh": {"source": "...", "welded_vertices": W, "render_vertices": V, "triangles": F},
      "poses": ["smile", ...],
      "wrinkle_maps": ["wrinkles", "smile lines"],   (names of the wrinkled maps, in order)
@@ -43,6 +43,11 @@ Layout (every name relative to the archive root)::
                         "cones": "wdv/00_cones.npy" (optional),
                         "directions": "wdv/00_directions.npy",
                         "lengths": "wdv/00_lengths.npy"}, ...]},
+     "furrows": {"all": {"depth", "spacing", "sharpness"},     (optional: factors, 1 = as
+                 "poses": {"pose": {"depth", ...}},         synthesised; a pose's own on top
+                 "maps": {"map": {"poses", "spacing",       of all poses'; each synthesised
+                                  "depth", "anatomy",       map's record, to make it again:
+                                  "digest"}}},              FurrowSettings.to_dict)
      "view": {...}, "timeline": {...}}
 
 Why this shape: images are ordinary PNGs, so a mask can be opened in any image editor straight
@@ -86,13 +91,14 @@ from studio.core.files.errors import ProjectError, StudioError
 from studio.core.files.input_checks import MAX_FPS, MIN_FPS
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.project.model import Project
+from studio.core.wrinkles.furrow_controls import FurrowSettings
 from studio.core.wrinkles.response import ResponseCurve
 from studio.core.wrinkles.textures import FaceTextures
 
 Array = np.ndarray
 
 FORMAT = "wrinkle-studio-project"
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 SUFFIX = ".wrinkle"
 
 # Limits that stop a damaged or hostile archive before anything large is read or allocated.
@@ -103,7 +109,7 @@ MAX_MEMBERS = 100_000
 MAX_PIXEL_BYTES = 2 << 30  # one image's decoded pixels
 
 KNOWN_KEYS = frozenset({"format", "version", "name", "mesh", "poses", "influence", "wdv", "view",
-                        "timeline", "wrinkle_maps", "not_face", "uv_tiles"})
+                        "timeline", "wrinkle_maps", "not_face", "uv_tiles", "furrows"})
 TEXTURES = ("diffuse", "normal_neutral", "normal_wrinkled")
 NOT_FACE_MEMBER = "mesh/not_face.npy"
 VERTEX_TILE_MEMBER = "mesh/vertex_tile.npy"
@@ -219,6 +225,7 @@ def check_project(project: Project, path: str | Path | None = None) -> None:
             fail(f"the painted cone angles of {what} must be {n} values from 0 to 180 degrees")
     if not isinstance(project.view, dict):
         fail("the view settings must be a dictionary")
+    _check_furrows(project.furrows, fail)
     _check_timeline(project.timeline, poses, fail)
 
 
@@ -240,6 +247,14 @@ def _check_timeline(timeline: Timeline, poses: set[str], fail: Callable[[str], N
             if key.interpolation not in INTERPOLATIONS:
                 fail(f"the '{track.pose}' track has an unknown interpolation "
                      f"'{key.interpolation}'")
+
+
+def _check_furrows(furrows: FurrowSettings, fail: Callable[[str], NoReturn]) -> None:
+    """Only the type: controls of a pose renamed or deleted since are dropped on saving
+    (``FurrowSettings.pruned``), and a record's missing pose is skipped when the map is made
+    again — neither is worth refusing a file for."""
+    if not isinstance(furrows, FurrowSettings):
+        fail("the furrow settings are not furrow settings")
 
 
 def _check_names(names: list[Any], what: str, fail: Callable[[str], NoReturn]) -> None:

@@ -182,6 +182,8 @@ def _document(project: Project, path: Path) -> bytes:
                        "lengths": f"wdv/{i:02d}_lengths.npy"}
                       for i, a in enumerate(project.wdv.areas)],
         },
+        **({"furrows": furrows} if (furrows := project.furrows.pruned(
+            project.pose_names, project.textures.wrinkle_map_names).to_dict()) else {}),
         "timeline": project.timeline.to_dict(),
         "view": project.view,
     })

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -53,6 +53,7 @@ from studio.core.setup import anatomy, anatomy_lower
 from studio.core.setup.anatomy import FacePlaces
 from studio.core.setup.face_frame import face_frame
 from studio.core.wrinkles import mask_ops
+from studio.core.wrinkles.furrow_controls import FurrowControls, SynthesisedMap, map_digest
 from studio.core.wrinkles.normalmap import height_to_normal
 from studio.core.wrinkles.skin_strain import (
     WRINKLING_COMPRESSION,
@@ -584,6 +585,25 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
     return images if groups is not None else images[0]
 
 
+def controlled(fields: Sequence[FurrowField], controls: Sequence[FurrowControls]
+               ) -> list[FurrowField]:
+    """The fields with each pose's depth and sharpness factors (``FurrowControls``): what
+    the controls change without laying the furrows out again (copies; the fields stay)."""
+    return [replace(f, gain=f.gain * c.depth, sharpness=f.sharpness * c.sharpness)
+            for f, c in zip(fields, controls, strict=True)]
+
+
+def grouped_maps(fields: Sequence[FurrowField], controls: Sequence[FurrowControls],
+                 options: SynthOptions, groups: Sequence[Sequence[int]], neutral: Array
+                 ) -> list[Array]:
+    """A wrinkled map per group of fields, over the neutral map, each pose's furrows as its
+    controls shape them: what ``fill_placeholder`` makes, and ``furrow_maps`` makes again
+    when a control changes."""
+    depths = furrow_depths(controlled(fields, controls), options.size, groups)
+    return [height_to_map((-options.depth * depth).astype(np.float32), neutral)
+            for depth in depths]
+
+
 @dataclass
 class _BareImage:
     """The skin a pose reveals bare, in [0, 1], over the box of the map it reaches only:
@@ -652,11 +672,14 @@ def over_base(detail: Array, base: Array) -> Array:
 
 def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOptions,
                   skin: Array | None = None, progress: Progress | None = None,
-                  total: int = 0, places: FacePlaces | None = None
-                  ) -> list[FurrowField] | None:
+                  total: int = 0, places: FacePlaces | None = None,
+                  spacings: Sequence[float] | None = None) -> list[FurrowField] | None:
     """Each pose's furrow field at the map's size; None if ``progress`` stopped. With
     ``places`` (where each vertex is on the face), a pose that lowers a brow gets its lines
-    between the brows (``anatomy.glabella``)."""
+    between the brows (``anatomy.glabella``). ``spacings``: a factor per target on the
+    furrows' spacing (``FurrowControls.spacing``), for the lines the strain lays out and
+    those anatomy places alike; the strain's smoothing and the noise along the lines keep
+    the options' spacing, so only the lines' count changes, not where they lie."""
     options.check()
     size = options.size
     work = min(size, work_size(mesh))
@@ -672,7 +695,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
     vary, wiggle = _surface_variation(mesh, raster, skin, options)
 
-    def one(target: Array) -> FurrowField:
+    def one(i: int, target: Array) -> FurrowField:
         strain = uv_strain.of(target)
         motion = np.linalg.norm(np.asarray(target, np.float64) - mesh.rest, axis=1)
         if skin is not None:
@@ -682,13 +705,14 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
         placed = area = lines = None
         if places is not None and face_xyz is not None:
             lines = vertex_lines(places, mesh, target, strain.compression * skin_tri)
+        factor = 1.0 if spacings is None else float(spacings[i])
         if lines is not None and places is not None and face_xyz is not None:
             window, phase = lines.place(*face_xyz)
-            placed = (np.where(ids >= 0, window, 0.0), phase, lines.gain, lines.gated)
+            placed = (np.where(ids >= 0, window, 0.0), phase / factor, lines.gain, lines.gated)
             area = raster.image(((share > MOVED_SHARE) | lines.region
                                  ).astype(np.float32)[mesh.weld])
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
-                             options.spacing, placed, moved, keep, area)
+                             options.spacing * factor, placed, moved, keep, area)
         field.variation = vary.ravel()[field.index]
         field.phase = field.phase + (0.5 if field.placed else 1.0) * wiggle.ravel()[field.index]
         return field
@@ -697,7 +721,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
     # while they work), reported and cancelled here, in the caller's thread, in pose order
     fields = []
     with ThreadPoolExecutor(pose_workers()) as pool:
-        for i, field in enumerate(pool.map(one, targets)):
+        for i, field in enumerate(pool.map(one, range(len(targets)), targets)):
             fields.append(field)
             if progress is not None and not progress(i + 1, total or len(targets)):
                 pool.shutdown(cancel_futures=True)  # the poses begun finish; no more begin
@@ -1004,24 +1028,42 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
     if options is None:
         options = face_options(project, _default_map_size(project))
     names = [p.name for p in project.poses] if poses is None else list(poses)
-    targets = [project.pose(name).positions for name in names]
-    fields = furrow_fields(project.skin_mesh(), targets, options, project.skin_weights(), progress,
-                           places=FacePlaces.of(frame if frame is not None
-                                                else face_frame(project), project.mesh.rest,
-                                                project.skin_weights()))
+    controls = [project.furrows.of(n) for n in names]
+    places = None if frame is None else FacePlaces.of(frame, project.mesh.rest,
+                                                      project.skin_weights())
+    fields = pose_fields(project, names, options, controls, progress, places)
     if fields is None:
         return None
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
     groups = crossing_groups(fields, room, options.size)
-    neutral = textures.normal_neutral
     made: dict[str, list[str]] = {}
-    depths = furrow_depths(fields, options.size, groups)
-    for k, (group, depth) in enumerate(zip(groups, depths, strict=True)):
-        normal = height_to_map((-options.depth * depth).astype(np.float32), neutral)
+    maps = grouped_maps(fields, controls, options, groups, textures.normal_neutral)
+    for k, (group, normal) in enumerate(zip(groups, maps, strict=True)):
         map_name = name if k == 0 else unique_name(f"{name} {k + 1}", textures.wrinkle_maps)
         textures.set_wrinkle_map(map_name, normal)
         made[map_name] = [names[i] for i in group]
+        # remembered, so that the furrow controls can make it again (``furrow_maps``)
+        project.furrows.maps[map_name] = SynthesisedMap(
+            tuple(made[map_name]), options.spacing, options.depth, True, map_digest(normal))
     return made
+
+
+def pose_fields(project: Project, names: Sequence[str], options: SynthOptions,
+                controls: Sequence[FurrowControls], progress: Progress | None = None,
+                places: FacePlaces | None = None) -> list[FurrowField] | None:
+    """The furrow fields of these poses as ``new --auto`` lays them out (anatomy placing the
+    primary lines), at each pose's spacing; None if ``progress`` stopped. ``places``: the
+    face's (``face_places``), if known."""
+    return furrow_fields(project.skin_mesh(), [project.pose(n).positions for n in names],
+                         options, project.skin_weights(), progress,
+                         places=places or face_places(project),
+                         spacings=[c.spacing for c in controls])
+
+
+def face_places(project: Project) -> FacePlaces:
+    """Where each vertex is on the face, for anatomy's lines (finding the face's frame takes
+    a good part of a second: ``furrow_maps`` keeps it)."""
+    return FacePlaces.of(face_frame(project), project.mesh.rest, project.skin_weights())
 
 
 def _default_map_size(project: Project) -> int:

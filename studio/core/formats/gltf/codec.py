@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import json
 import struct
-from collections.abc import Collection
+from collections.abc import Callable, Collection
 from pathlib import Path
 
 import numpy as np
@@ -57,7 +57,9 @@ from studio.core.formats.gltf.materials import (
     texture_source,
     wrinkle_image,
 )
-from studio.core.formats.gltf.scene import scene_meshes
+from studio.core.formats.gltf.renames import pose_renames, renamed_extras, used_poses
+from studio.core.formats.gltf.scene import placed, placed_meshes, scene_meshes
+from studio.core.formats.gltf.survived import survived_setup
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
 from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
@@ -106,12 +108,13 @@ def load_gltf(path: str | Path, keep: Collection[str] | None = None,
     path = Path(path)
     try:
         g = _Gltf(path)
-        studio = _studio_setup(g)
+        lines = report if report is not None else []
+        studio = _studio_setup(g) or _survived(g, lines)
         if studio is not None:
             if keep is not None or not_face:
                 raise MeshError("this file was written by Wrinkle Studio: its face is one mesh, "
                                 "with no parts to keep or mark", path)
-            return _load_own(g, *studio, report if report is not None else [])
+            return _load_own(g, *studio, lines)
         return _load_scene(g, keep, not_face, kind, report)
     except (KeyError, IndexError, TypeError, ValueError, AttributeError, OverflowError,
             RecursionError, struct.error) as exc:  # a structure no check above foresaw
@@ -139,6 +142,20 @@ def _studio_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
            for p in m.get("primitives", [])):
         return {}, {}
     return None
+
+
+def _survived(g: _Gltf, report: list[str]) -> tuple[dict, dict[str, Array]] | None:
+    """The set-up rebuilt from what survived of the studio's export re-encoded by another
+    tool (core/formats/gltf/survived.py), what was lost said in ``report``; None otherwise."""
+    try:
+        _, prim = _triangle_primitive(g)
+    except MeshError:
+        return None
+    found = survived_setup(g, prim["attributes"])
+    if found is None:
+        return None
+    report.append(found[1])
+    return found[0], {}
 
 
 def _carried_setup(g: _Gltf) -> tuple[dict, dict[str, Array]] | None:
@@ -233,7 +250,9 @@ def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[st
     path = g.path
     mesh_spec, prim = _triangle_primitive(g)
     attrs = prim["attributes"]
-    positions = g.typed(attrs["POSITION"], ("VEC3",), "POSITION")
+    local = g.typed(attrs["POSITION"], ("VEC3",), "POSITION")
+    matrix = _node_matrix(g, mesh_spec, report)
+    positions = placed(g, local, matrix, "the mesh's positions", True)
     uvs = g.typed(attrs["TEXCOORD_0"], ("VEC2",), "TEXCOORD_0")
     if len(uvs) != len(positions):
         raise MeshError(f"TEXCOORD_0 has {len(uvs)} values, POSITION has {len(positions)}", path)
@@ -268,10 +287,11 @@ def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[st
             continue
         name = str(names[i]) if i < len(names) else f"target_{i}"
         offsets = g.typed(target["POSITION"], ("VEC3",), f"morph target '{name}'")
-        if len(offsets) != len(positions):  # numpy would broadcast a single offset silently
+        if len(offsets) != len(local):  # numpy would broadcast a single offset silently
             raise MeshError(f"morph target '{name}' moves {len(offsets)} vertices, the mesh has "
                             f"{len(positions)}", path)
-        poses.append(KeyPose(name, (positions + offsets)[first]))
+        poses.append(KeyPose(name, placed(g, local + offsets, matrix, f"morph target '{name}'",
+                                          True)[first]))
     material = _material(g, prim)
     pbr = material.get("pbrMetallicRoughness", {})
     textures = FaceTextures(
@@ -283,7 +303,10 @@ def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[st
         report.append("the studio's set-up came back from the neutral normal map: another "
                       "tool re-exported this file without its extras")
     try:
-        _read_studio_extras(g, project, extras, attrs, first, carried, report)
+        extras, lines = renamed_extras(extras, pose_renames(
+            extras.get("poses"), [p.name for p in poses], used_poses(extras)))
+        report += lines
+        read_studio_extras(g, project, extras, attrs, first, carried, report)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise MeshError(f"the studio data in extras.{EXTRAS_KEY} is malformed ({exc})",
                         path) from None
@@ -295,6 +318,19 @@ def _load_own(g: _Gltf, extras: dict, carried: dict[str, Array], report: list[st
         if timeline is not None:
             project.timeline = timeline
     return project
+
+
+def _node_matrix(g: _Gltf, mesh_spec: dict, report: list[str]) -> Array:
+    """The world transform of the first node showing the face: identity in the studio's own
+    export; moved, turned or scaled by a person in another tool and exported without applying
+    it, which the face takes on (as Blender's Apply > All Transforms would), said in a line."""
+    index = next(i for i, m in enumerate(_list(g, g.doc, "meshes")) if m is mesh_spec)
+    matrix = next((m for _, node, m in placed_meshes(g) if node.get("mesh") == index),
+                  np.eye(4))
+    if not np.allclose(matrix, np.eye(4), rtol=0, atol=1e-9):
+        report.append("the face was moved, turned or scaled in another tool without applying "
+                      "it: its node's transform is applied to the vertices and key poses")
+    return matrix
 
 
 def _animated_timeline(g: _Gltf, mesh_spec: dict, pose_names: list[str]) -> Timeline | None:
@@ -339,13 +375,19 @@ def _material(g: _Gltf, prim: dict) -> dict:
         raise MeshError("the mesh refers to a material that does not exist", g.path) from None
 
 
-def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
-                        first: Array, carried: dict[str, Array], report: list[str]) -> None:
+def read_studio_extras(g: _Gltf | None, project: Project, extras: dict, attrs: dict,
+                       first: Array, carried: dict[str, Array], report: list[str],
+                       image: Callable[[object], Array] | None = None) -> None:
     """The set-up from the extras (images by name, or by index in older files) and the
-    per-vertex data from the attributes, else from ``carried``."""
+    per-vertex data from the attributes, else from ``carried``. ``image`` reads an image the
+    extras name (default: the glTF's own); the USD reader gives its package's, with no glTF
+    (``g`` None) and no attributes."""
+    if image is None:
+        def image(ref: object) -> Array:
+            return g.image(image_index(g, ref))
     areas = []
     for spec in extras.get("influence", {}).get("areas", []):
-        mask = g.image(image_index(g, spec["image"])).astype(np.float32) / 65535.0
+        mask = _unit_mask(image(spec["image"]))
         areas.append(InfluenceArea(spec["name"], mask, tuple(spec.get("colour", (255, 128, 0))),
                                    float(spec.get("activation", 0.0)),
                                    bool(spec.get("visible", True)),
@@ -355,7 +397,7 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
                                        curves_from_dict(influence.get("curves", {})))
     if extras.get("wrinkle_maps"):
         tex = project.textures
-        maps = {str(m["name"]): _rgb(g.image(image_index(g, m["image"])), tex.normal_wrinkled)
+        maps = {str(m["name"]): _rgb(image(m["image"]), tex.normal_wrinkled)
                 for m in extras["wrinkle_maps"]}
         project.textures = FaceTextures(tex.diffuse, tex.normal_neutral, wrinkle_maps=maps)
     n_welded = len(first)
@@ -374,6 +416,8 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
     wdv = extras.get("wdv", {})
     wdv_areas = []
     for n, spec in enumerate(wdv.get("areas", [])):
+        if spec["pose"] is None:  # its key pose is gone (core/formats/gltf/renames.py)
+            continue
         data = _wdv_data(g, attrs, n, first, carried)
         if data is None:
             report.append(f"technique-2 area '{spec['name']}' was lost with the custom vertex "
@@ -391,6 +435,14 @@ def _read_studio_extras(g: _Gltf, project: Project, extras: dict, attrs: dict,
         project.timeline = Timeline.from_dict(extras["timeline"])
     if extras.get("tangent_frame") in TANGENT_FRAMES:  # the frame its maps were made for
         project.view["view"] = {"tangent_frame": extras["tangent_frame"]}
+
+
+def _unit_mask(image: Array) -> Array:
+    """A mask image as float32 in [0, 1]: the studio writes 16-bit grey, another tool's
+    re-encoding may hold 8-bit grey or RGB (its first channel)."""
+    if image.ndim == 3:
+        image = image[..., 0]
+    return image.astype(np.float32) / float(np.iinfo(image.dtype).max)
 
 
 def _vertex_data(g: _Gltf, attrs: dict) -> tuple[Array | None, Array | None]:
@@ -572,6 +624,7 @@ def _studio_extras(project: Project, frame: str, map_images: list[str],
     tex = project.textures
     return {
         "name": project.name, "timeline": project.timeline.to_dict(), "tangent_frame": frame,
+        "poses": [p.name for p in project.poses],  # their order: renamed keys are found by it
         "influence": {"links": project.influence.links,
                       "curves": curves_to_dict(project.influence.curves), "areas": [
             {"name": a.name, "colour": list(a.colour), "activation": a.activation,

@@ -310,7 +310,7 @@ def _primitive(g: _Gltf, prim: dict, matrix: Array, target_names: list[str]) -> 
     attrs = prim["attributes"]
     local = g.attribute(attrs["POSITION"], "POSITION", ("VEC3",))
     n = len(local)
-    positions = _placed(g, local, matrix, "the mesh's positions", True)
+    positions = placed(g, local, matrix, "the mesh's positions", True)
     material, info = _material(g, prim)
     uvs = _uvs(g, attrs, info, n)
     has_uvs = uvs is not None
@@ -326,13 +326,13 @@ def _primitive(g: _Gltf, prim: dict, matrix: Array, target_names: list[str]) -> 
         if len(moved) != n:  # numpy would broadcast a single offset silently
             raise MeshError(f"morph target '{name}' moves {len(moved)} vertices, the mesh has "
                             f"{n}", g.path)
-        offsets[i] = _placed(g, moved, matrix, f"morph target '{name}'", False)
+        offsets[i] = placed(g, moved, matrix, f"morph target '{name}'", False)
     index = prim.get("material")
     return Primitive(index, shown(material.get("name", "")), positions, triangles, uvs, offsets,
                      has_uvs)
 
 
-def _placed(g: _Gltf, local: Array, matrix: Array, what: str, point: bool) -> Array:
+def placed(g: _Gltf, local: Array, matrix: Array, what: str, point: bool) -> Array:
     """``local`` rows moved by the node's ``matrix`` (points, or offsets without its
     translation), refused in one line when the product leaves the range the studio computes
     in (numpy would warn of the overflow and carry infinities on). Unmoved rows are the

@@ -20,6 +20,8 @@ from studio.core.formats.gltf.materials import _rgb
 from studio.core.formats.polygons import unwrapped
 from studio.core.formats.usd.materials import Diffuse, ImageBudget, diffuse_image, texture_path
 from studio.core.formats.usd.meshes import UsdMesh, read_meshes
+from studio.core.formats.usd.setup import neutral_map as _neutral_map
+from studio.core.formats.usd.setup import restore_setup, studio_mesh
 from studio.core.formats.usd.stage import heard, listen, open_stage, stage_frame, usd_reason
 from studio.core.project.model import Project
 from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
@@ -52,6 +54,8 @@ def load_usd(path: str | Path, keep: Collection[str] | None = None,
 def _project(stage, path: Path, keep: Collection[str] | None,
              not_face: Collection[str] | None, kind: str | None) -> tuple[Project, list[str]]:
     """The project and the report's lines on what was found."""
+    from pxr import UsdGeom
+
     frame = stage_frame(stage, path)
     meshes = read_meshes(stage, frame, path)
     if not meshes:
@@ -74,6 +78,12 @@ def _project(stage, path: Path, keep: Collection[str] | None,
     textures = FaceTextures(_rgb(diffuse.image) if diffuse.image is not None
                             else plain_diffuse(), flat_normal_map(), flat_normal_map())
     project = Project(path.stem, mesh, merged.poses, textures, not_face=merged.not_face)
+    own = studio_mesh(stage)
+    if own is not None and len(choice.kept) == 1 and \
+            len(UsdGeom.Mesh(own).GetPointsAttr().Get()) == mesh.n_welded:
+        project.textures = FaceTextures(textures.diffuse, _neutral_map(own, path),
+                                        flat_normal_map())
+        restore_setup(own, project, path, lines)  # the studio's own export: its set-up
     if frame.authored:  # the stage says which way is up: turned to +Y, it is the studio's word
         project.view["up"] = "+y"
     return project, lines
