@@ -15,7 +15,7 @@ vec3 srgb_to_linear(vec3 c) { return pow(c, vec3(2.2)); }
 vec3 linear_to_srgb(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
 
 // The light a surface normal receives from the key light plus a dim fill from the opposite side:
-// x diffuse, y specular. A shaded colour is albedo * (u_ambient + x) + y (see shade), so a
+// x diffuse, y specular. A shaded colour is albedo * (u_ambient + x) + y (face.frag's finish), so a
 // weighted average of shaded colours (the thesis's blend) is the same average of these two
 // numbers: a blend of several shadings costs two floats per extra normal, not a colour.
 vec2 light(vec3 n, vec3 view_dir) {
@@ -26,10 +26,4 @@ vec2 light(vec3 n, vec3 view_dir) {
     vec3 h = normalize(l + view_dir);
     float spec = key > 0.0 ? pow(max(dot(n, h), 0.0), u_shininess) * u_specular : 0.0;
     return vec2(key + back, spec);
-}
-
-// Key light, fill and a little ambient; linear colour out.
-vec3 shade(vec3 albedo, vec3 n, vec3 view_dir) {
-    vec2 received = light(n, view_dir);
-    return albedo * (u_ambient + received.x) + vec3(received.y);
 }

@@ -2,7 +2,8 @@
 // Face fragment shader: normal-mapped Blinn-Phong, blending the neutral shading with up to four
 // wrinkled shadings by the per-map wrinkle weights of the technique, plus the
 // debug views.
-// Defines: TECHNIQUE_{FLAT,NONE,T1,T2,STRAIN}; T1_DIRECT (loop over every mask layer, the
+// Defines: TECHNIQUE_{FLAT,NONE,T1,T2,STRAIN}; SKIN (the skin look of skin.glsl, lit by a rig,
+// instead of common.glsl's clay); T1_DIRECT (loop over every mask layer, the
 // thesis's form, instead of the composed weight texture); BLEND_NORMALS (blend the normals and
 // light once, instead of the thesis's blend of shaded colours); RELIEF_PARALLAX (parallax
 // occlusion mapping of the wrinkles, below); RELIEF_DISPLACE needs nothing here (the
@@ -56,6 +57,30 @@ vec4 wrinkle_weights() { return v_weights; }
 #endif
 
 out vec4 frag_colour;
+
+// The light a normal receives, added with a weight (the blends average it), and the colour it
+// gives an albedo: the skin look's (skin.glsl) or clay's (common.glsl).
+#ifdef SKIN
+#include "skin.glsl"
+void add_light(inout vec3 dif, inout vec3 spe, vec3 n, vec3 view_dir, float weight) {
+    vec3 d, s;
+    skin_receive(n, view_dir, d, s);
+    dif += weight * d;
+    spe += weight * s;
+}
+vec3 finish(vec3 albedo, vec3 dif, vec3 spe) {
+    return skin_finish(albedo, dif, spe);
+}
+#else
+void add_light(inout vec3 dif, inout vec3 spe, vec3 n, vec3 view_dir, float weight) {
+    vec2 r = light(n, view_dir);
+    dif += weight * r.x;
+    spe += weight * r.y;
+}
+vec3 finish(vec3 albedo, vec3 dif, vec3 spe) {
+    return albedo * (u_ambient + dif) + spe;
+}
+#endif
 
 vec3 unpack_normal(vec2 xy) {
     vec2 n = xy * 2.0 - 1.0;
@@ -119,8 +144,10 @@ void main() {
     }
     vec2 uv = v_texcoord;
     float shows = 0.0;   // sum of w_m * |wrinkled_m - neutral|: what the weights change
+    vec3 dif = vec3(0.0), spe = vec3(0.0);
 #ifdef TECHNIQUE_FLAT
-    vec3 colour = shade(vec3(0.62), n_geo, view_dir);
+    add_light(dif, spe, n_geo, view_dir, 1.0);
+    vec3 colour = finish(vec3(0.62), dif, spe);
     vec3 n = n_geo;
 #else
     mat3 tbn = mat3(normalize(v_tangent), normalize(v_bitangent), n_geo);
@@ -142,21 +169,22 @@ void main() {
         }
     }
     vec3 n = normalize(n_sum);
-    vec3 colour = shade(albedo, n, view_dir);
+    add_light(dif, spe, n, view_dir, 1.0);
+    vec3 colour = finish(albedo, dif, spe);
 #else
     // the thesis's blend of shaded colours, as the same blend of the light each normal receives
     // (common.glsl: the weights sum to 1, so the ambient term is whole)
-    vec2 received = light(n_neutral, view_dir) * (1.0 - total);
+    add_light(dif, spe, n_neutral, view_dir, 1.0 - total);
     for (int m = 0; m < WRINKLE_MAPS; ++m) {
         if (w[m] > 0.0) {
             vec3 t_m = wrinkled_normal(m, normals, uv);
             vec3 n_m = normalize(tbn * t_m);
-            received += w[m] * light(n_m, view_dir);
+            add_light(dif, spe, n_m, view_dir, w[m]);
             n_sum += w[m] * n_m;
             shows += w[m] * length(t_m - t_neutral);
         }
     }
-    vec3 colour = albedo * (u_ambient + received.x) + vec3(received.y);
+    vec3 colour = finish(albedo, dif, spe);
     vec3 n = normalize(n_sum);
 #endif
 #endif

@@ -21,9 +21,20 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def write_fbx(path: Path, skeleton: bool = False, up: str = "Y",
-              poses: list[str] | None = None, uvs: bool = True) -> Path:
-    """Run this file under the test's Python (which has bpy) and return ``path``."""
+              poses: list[str] | None = None, uvs: bool = True,
+              texture: Path | None = None, normal: Path | None = None,
+              embed: bool = False) -> Path:
+    """Run this file under the test's Python (which has bpy) and return ``path``.
+    ``texture`` and ``normal``: images the skin material's Principled BSDF shows as its base
+    colour and through a Normal Map node, embedded in the file (``embed``) or named by
+    relative path, as Blender's exporter writes them."""
     args = [sys.executable, str(Path(__file__).resolve()), str(path), "--up", up]
+    if texture is not None:
+        args += ["--texture", str(texture)]
+    if normal is not None:
+        args += ["--normal", str(normal)]
+    if embed:
+        args.append("--embed")
     if skeleton:
         args.append("--skeleton")
     if not uvs:
@@ -37,7 +48,28 @@ def write_fbx(path: Path, skeleton: bool = False, up: str = "Y",
     return path
 
 
-def _build(out: str, skeleton: bool, up: str, poses: list[str] | None, uvs: bool) -> None:
+def _skin_textures(material, texture: str | None, normal: str | None) -> None:
+    """The skin material's node tree: base colour from ``texture``, normals from ``normal``."""
+    import bpy
+
+    material.use_nodes = True
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    bsdf = nodes["Principled BSDF"]
+    if texture:
+        image = nodes.new("ShaderNodeTexImage")
+        image.image = bpy.data.images.load(texture)
+        links.new(image.outputs["Color"], bsdf.inputs["Base Color"])
+    if normal:
+        image = nodes.new("ShaderNodeTexImage")
+        image.image = bpy.data.images.load(normal)
+        image.image.colorspace_settings.name = "Non-Color"
+        bump = nodes.new("ShaderNodeNormalMap")
+        links.new(image.outputs["Color"], bump.inputs["Color"])
+        links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+
+
+def _build(out: str, skeleton: bool, up: str, poses: list[str] | None, uvs: bool,
+           texture: str | None = None, normal: str | None = None, embed: bool = False) -> None:
     import bpy
     import numpy as np
 
@@ -60,6 +92,8 @@ def _build(out: str, skeleton: bool, up: str, poses: list[str] | None, uvs: bool
         uv.data.foreach_set("uv", mesh.uvs[mesh.triangles].reshape(-1).astype(np.float32))
     skin = bpy.data.materials.new("M_Skin")
     eyes = bpy.data.materials.new("M_EyesTeeth")
+    if texture or normal:
+        _skin_textures(skin, texture, normal)
     data.materials.append(skin)
     data.materials.append(eyes)
     not_face = project.not_face[tris].all(axis=1).astype(np.int32)
@@ -95,7 +129,8 @@ def _build(out: str, skeleton: bool, up: str, poses: list[str] | None, uvs: bool
 
     forward = "-Z" if up.upper() == "Y" else "Y"
     bpy.ops.export_scene.fbx(filepath=out, axis_up=up.upper(), axis_forward=forward,
-                             add_leaf_bones=False, bake_anim=False)
+                             add_leaf_bones=False, bake_anim=False,
+                             path_mode="COPY" if embed else "RELATIVE", embed_textures=embed)
 
 
 def main() -> None:
@@ -105,9 +140,12 @@ def main() -> None:
     parser.add_argument("--up", default="Y")
     parser.add_argument("--poses")
     parser.add_argument("--no-uvs", action="store_true")
+    parser.add_argument("--texture")
+    parser.add_argument("--normal")
+    parser.add_argument("--embed", action="store_true")
     args = parser.parse_args()
     _build(args.out, args.skeleton, args.up, args.poses.split(",") if args.poses else None,
-           not args.no_uvs)
+           not args.no_uvs, args.texture, args.normal, args.embed)
 
 
 if __name__ == "__main__":

@@ -155,8 +155,8 @@ def card_texture(d: GlbDoc, size: int = 64) -> dict:
     return {"index": len(textures) - 1}
 
 
-def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner", brows: str = ""
-                 ) -> Path:
+def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner", brows: str = "",
+                 skin_colour: tuple[int, int, int] = (200, 150, 130)) -> Path:
     """The avatar .glb (see the module's docstring); returns its path. ``squint``: see
     ``production_head.build_head``. ``brows``: eyebrow cards as a second primitive of the
     Head mesh (``brow_card``), their material alpha-cut ("MASK"), blended ("BLEND"), or
@@ -167,7 +167,7 @@ def build_avatar(path: Path, vertices: int = 2172, squint: str = "corner", brows
     d.doc["extensionsUsed"] = ["KHR_mesh_quantization"]
     d.doc["extensionsRequired"] = ["KHR_mesh_quantization"]
     poses = {arkit_name(p): p for p in (*COMPRESSING, STRETCH_ONLY, EYES_ONLY)}
-    skin_mat = d.material("Skin", (200, 150, 130))
+    skin_mat = d.material("Skin", skin_colour)
     eye_mat = d.material("EyeMaterial", (240, 240, 240))
     teeth_mat = d.material("TeethMaterial", None)
     cloth = d.material("Cloth", (40, 60, 90))

@@ -84,7 +84,7 @@ def test_view_settings_name_their_fields_in_order() -> None:
     """The field names, in declaration order, are what clients and files go by."""
     assert ViewSettings.field_names() == (
         "technique", "split", "debug_view", "wireframe", "blend", "relief", "relief_depth",
-        "light_azimuth", "light_elevation", "tangent_frame")
+        "light_azimuth", "light_elevation", "tangent_frame", "look", "light_rig")
     assert ViewSettings().field_names() == ViewSettings.field_names()
 
 

@@ -36,6 +36,7 @@ AREA_NAMES = ["brow L/R", "smile", "crow's feet", "nose", "chin"]
 SAFE_NAMES = ["brow_L_R", "smile", "crow_s_feet", "nose", "chin"]
 SHADERS = [
     "common.glsl",
+    "skin.glsl",
     "relief.glsl",
     "face.vert",
     "face.tesc",
@@ -286,7 +287,7 @@ def test_an_8_bit_export_of_a_face_on_one_tile(tmp_path: Path) -> None:
     names = relative(folder, written)
     assert not [name for name in names if ".100" in name]
     assert names[:3] == ["face.glb", "masks/00_brow_L_R.png", "masks/01_smile.png"]
-    assert len(names) == 1 + 5 + 2 + 2 + 1 + 1 + 1 + 8
+    assert len(names) == 1 + 5 + 2 + 2 + 1 + 1 + 1 + len(SHADERS)
     mask = read_image(folder / "masks" / "04_chin.png")
     assert mask.dtype == np.uint8 and np.array_equal(mask, levels(4) * 51)
     sheet = json.loads((folder / "wrinkles.json").read_text(encoding="utf-8"))

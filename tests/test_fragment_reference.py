@@ -23,6 +23,7 @@ from studio.core.mesh.camera import OrbitCamera
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.mask_sparse import quantise
 from studio.core.wrinkles.shading import Fragment, Lighting, fragment_colour
+from studio.core.wrinkles.skin_light import RIG_NAMES, light_rig
 from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings
 from tests.hand_faces import front_camera, grid_face
@@ -127,8 +128,9 @@ def reference(case: Case, camera: OrbitCamera, settings: RenderSettings
         view_pos=view_pos, texcoord=np.stack([u, 1 - v], -1))
     lighting = Lighting(settings.light_dir, settings.ambient, settings.specular,
                         settings.shininess)
+    rig = light_rig(settings.light_rig, settings.light_dir) if settings.look == "skin" else None
     colour = fragment_colour(fragment, blend=settings.blend, view=settings.view,
-                             lighting=lighting)
+                             lighting=lighting, rig=rig)
     return colour * 255.0, compared
 
 
@@ -173,6 +175,16 @@ def test_shading_under_other_lights_and_both_technique_1_modes(rendered, light, 
     draw, camera = rendered
     assert_matches(draw(technique="t1", t1_mode=t1_mode, light_dir=LIGHTS[light],
                         specular=0.5, shininess=8.0), camera)
+
+
+@pytest.mark.parametrize("rig", RIG_NAMES)
+@pytest.mark.parametrize("blend", ["colour", "normal"])
+def test_the_skin_look_under_each_light_rig_is_the_reference(rendered, rig, blend):
+    """Issue 46: shaders/skin.glsl (scattering diffuse per channel, two GGX lobes, the rig's
+    three lights) against skin_light.py, in both blends of the wrinkled maps."""
+    draw, camera = rendered
+    assert_matches(draw(technique="t1", look="skin", light_rig=rig, blend=blend,
+                        light_dir=LIGHTS["grazing"]), camera)
 
 
 def test_no_wrinkles_is_the_reference_at_zero_weight(rendered):

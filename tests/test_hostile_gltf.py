@@ -465,7 +465,9 @@ def test_extension_names_and_uris_are_escaped(tmp_path: Path) -> None:
     g.doc.update(images=[{"uri": "missing\n\x1b[2J.png"}], textures=[{"source": 0}],
                  materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])
     prim["material"] = 0
-    assert "missing\\x0a\\x1b[2J.png" in refused(tmp_path, g, "does not exist")
+    result = new(tmp_path, g)  # a missing texture is said, not refused (issue 46)
+    check_rule(result, 0)
+    assert "image missing\\x0a\\x1b[2J.png of material (unnamed) not found" in result.stdout
 
 
 def test_renders_pose_list_is_escaped(tmp_path: Path) -> None:
@@ -512,13 +514,33 @@ def test_a_frame_number_of_thousands_of_digits(tmp_path: Path) -> None:
     assert "sys.set_int_max_str_digits" not in line
 
 
-def test_a_missing_image_is_called_an_image(tmp_path: Path) -> None:
+def test_a_missing_image_is_said_and_the_head_opens_plain(tmp_path: Path) -> None:
+    """Issue 46: a texture left behind is a hand-over slip, not a broken head (Blender opens
+    the material untextured): the report names the image, called an image, and the project
+    is written with plain skin."""
     g, prim = face()
     g.doc.update(images=[{"uri": "skin.png"}], textures=[{"source": 0}],
-                 materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])
+                 materials=[{"name": "Skin",
+                             "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])
     prim["material"] = 0
-    line = refused(tmp_path, g, "image 'skin.png' of the glTF does not exist", "face.gltf")
-    assert "buffer" not in line
+    result = new(tmp_path, g, "face.gltf")
+    check_rule(result, 0)
+    assert ("diffuse map: image skin.png of material Skin not found beside the file: plain "
+            "skin colour") in result.stdout, result.stdout
+    assert (tmp_path / "out.wrinkle").exists()
+
+
+def test_an_image_that_is_no_image_is_said_and_the_head_opens_plain(tmp_path: Path) -> None:
+    g, prim = face()
+    (tmp_path / "skin.png").write_bytes(b"not a picture at all")
+    g.doc.update(images=[{"uri": "skin.png"}], textures=[{"source": 0}],
+                 materials=[{"name": "Skin", "normalTexture": {"index": 0}}])
+    prim["material"] = 0
+    result = new(tmp_path, g, "face.gltf")
+    check_rule(result, 0)
+    assert "normal map: image skin.png of material Skin is unreadable (not an image" in \
+        result.stdout, result.stdout
+    assert ": a flat normal map" in result.stdout
 
 
 def test_a_percent_encoded_uri_names_its_file(tmp_path: Path) -> None:

@@ -44,8 +44,10 @@ JUDGED_0 = {"brow raise": {"Surprised": 1.0}, "frown": {"angry": 1.0}, "smile": 
 BALLS = ((0.35, 0.92, -0.05), (-0.35, 0.92, -0.05))  # sample units: on the crown
 
 
-def build_vrm(path: Path, version: str = "0.x", vertices: int = 2172) -> Path:
-    """The avatar (see the module's docstring) as a .vrm of that VRM version."""
+def build_vrm(path: Path, version: str = "0.x", vertices: int = 2172,
+              skin_colour: tuple[int, int, int] = (200, 150, 130)) -> Path:
+    """The avatar (see the module's docstring) as a .vrm of that VRM version, its skin's
+    texture of ``skin_colour``."""
     head = build_head("m", vertices=vertices, up="y")
     skin = head.parts[0]
     # VRM 0.x faces −Z: the sample's front (+z) turned half round about Y; VRM 1.0 faces +Z
@@ -78,7 +80,7 @@ def build_vrm(path: Path, version: str = "0.x", vertices: int = 2172) -> Path:
     eye_uvs = np.tile([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], (2, 1))
 
     d = GlbDoc()
-    skin_mat = d.material("Face_00_SKIN", (200, 150, 130))
+    skin_mat = d.material("Face_00_SKIN", skin_colour)
     eye_mat = d.material("EyeIris_00_EYE", (60, 90, 160))
     cloth = d.material("Body_00_CLOTH", (40, 60, 90))
     skin_targets, eye_targets = [], []

@@ -15,6 +15,7 @@ from studio.core.project.model import Project
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.core.setup.face_frame import aim, parse_axis
 from studio.core.wrinkles.relief import suggested_relief_depth
+from studio.core.wrinkles.skin_light import LOOKS, RIG_LABELS, RIG_NAMES
 from studio.core.wrinkles.techniques import TECHNIQUES
 from studio.render.animation import (
     AnimationWriter,
@@ -72,6 +73,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="debug view (heat: the wrinkle weight; heat-shows: the weight times how "
                         "much the revealed wrinkled map differs from the neutral one)")
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")
+    p.add_argument("--look", choices=LOOKS, default="clay",
+                   help="clay: the first shading; skin: a skin shader (scattering diffuse, two "
+                        "specular lobes, the head's albedo) under the light rig")
+    p.add_argument("--light-rig", choices=RIG_NAMES, default="studio",
+                   help="the skin look's lights: " + "; ".join(
+                       f"{k}: {v}" for k, v in RIG_LABELS.items()))
     p.add_argument("--blend", choices=BLENDS, default="colour",
                    help="mix two shaded colours (the thesis) or the two normals (light once)")
     p.add_argument("--relief", choices=RELIEFS, default="off",
@@ -135,6 +142,7 @@ def _settings(args: argparse.Namespace, project: Project):
         depth = suggested_relief_depth(*project.mesh.bounds())
     view = ViewSettings(technique=args.technique, debug_view=args.view,
                         wireframe=args.wireframe, blend=args.blend, relief=args.relief,
+                        look=args.look, light_rig=args.light_rig,
                         relief_depth=depth)
     return render_settings(view)
 

@@ -13,6 +13,7 @@ import moderngl
 import numpy as np
 
 from studio.core.mesh.face_mesh import FaceMesh
+from studio.core.wrinkles.skin_light import light_rig
 from studio.core.wrinkles.wdv import SLOTS, WdvSlots
 from studio.render import deform_pass
 from studio.render.programs import UNITS, Programs, set_uniforms, write_matrix
@@ -144,11 +145,15 @@ class FacePass:
         write_matrix(prog, "u_view", view)
         write_matrix(prog, "u_proj", proj)
         light = np.asarray(settings.light_dir, float)
+        rig = light_rig(settings.light_rig, settings.light_dir)
         set_uniforms(prog, {
             "u_light_dir": tuple(light / np.linalg.norm(light)),
             "u_ambient": settings.ambient,
             "u_specular": settings.specular,
             "u_shininess": settings.shininess,
+            "u_rig_dir": rig.directions,
+            "u_rig_colour": rig.colours,
+            "u_rig_ambient": rig.ambient,
             "u_view_mode": VIEW_MODES[settings.view],
             "u_relief_depth": settings.relief_depth,
             "u_uv_per_unit": self.uv_per_unit,

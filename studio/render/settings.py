@@ -10,6 +10,7 @@ from studio.core.formats.web_export import WebLook
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
+from studio.core.wrinkles.skin_light import LOOKS, RIG_NAMES
 from studio.core.wrinkles.strain import DEFAULT_FULL_AT
 from studio.core.wrinkles.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
 
@@ -33,6 +34,8 @@ class RenderSettings:
     relief: str = "off"  # off | displace (tessellation, GL 4.0) | parallax: wrinkles in depth
     relief_depth: float = DEFAULT_RELIEF_DEPTH  # model units of the deepest wrinkle
     tangent_frame: str = DEFAULT_TANGENT_FRAME  # mikktspace | thesis: how the maps are read
+    look: str = "clay"  # clay (common.glsl's light) | skin (skin.glsl under ``light_rig``)
+    light_rig: str = "studio"  # studio | overcast | raking (core/wrinkles/skin_light.py)
 
     def __post_init__(self) -> None:
         for value, allowed, what in ((self.technique, tuple(TECHNIQUES), "technique"),
@@ -40,7 +43,9 @@ class RenderSettings:
                                      (self.blend, BLENDS, "blend"),
                                      (self.t1_mode, T1_MODES, "technique-1 mode"),
                                      (self.relief, RELIEFS, "relief"),
-                                     (self.tangent_frame, TANGENT_FRAMES, "tangent frame")):
+                                     (self.tangent_frame, TANGENT_FRAMES, "tangent frame"),
+                                     (self.look, LOOKS, "look"),
+                                     (self.light_rig, RIG_NAMES, "light rig")):
             if value not in allowed:
                 raise ValueError(f"unknown {what} '{value}' (choose from {allowed})")
         if not 0.0 <= self.relief_depth < float("inf"):
@@ -54,6 +59,8 @@ class RenderSettings:
     def program_key(self) -> tuple[str, ...]:
         """What selects a compiled program: only options that change the shader's code."""
         defines = [shader_define(self.technique)]
+        if self.look == "skin":
+            defines.append("SKIN")
         if self.blend == "normal":
             defines.append("BLEND_NORMALS")
         if self.technique == "t1" and self.t1_mode == "direct":
@@ -71,7 +78,8 @@ def render_settings(view: ViewSettings, *, technique: str | None = None,
     return RenderSettings(technique=technique or view.technique, view=view.debug_view,
                           wireframe=view.wireframe, light_dir=view.light_dir(),
                           blend=view.blend, relief=relief or view.relief,
-                          relief_depth=view.relief_depth, tangent_frame=view.tangent_frame)
+                          relief_depth=view.relief_depth, tangent_frame=view.tangent_frame,
+                          look=view.look, light_rig=view.light_rig)
 
 
 def web_look(view: ViewSettings) -> WebLook:

@@ -36,6 +36,7 @@ from studio.widgets.paint.tools import install_mask_tools
 from studio.widgets.timeline.capture_tools import install_capture_tools
 from studio.widgets.timeline.pose_panel import PosePanel
 from studio.widgets.timeline.tools import add_timeline_menu_entries, install_timeline_tools
+from studio.widgets.viewport.look_menu import LookMenu
 from studio.widgets.viewport.shading_panel import ShadingPanel
 from studio.widgets.viewport.viewport import ANTI_ALIASING, DEFAULT_SAMPLES, Viewport
 from studio.widgets.wdv.panel import install_wdv_tools
@@ -254,6 +255,7 @@ class MainWindow(QMainWindow):
             if title != "History":
                 view.addAction(dock.toggleViewAction())
         view.addSeparator()
+        self.look_menu = LookMenu(view.addMenu("L&ook"), self.doc)
         self._anti_aliasing_menu(view.addMenu("&Anti-Aliasing"))
         view.addAction(self.viewport.reduce_action(self))
         view.addSeparator()

@@ -24,6 +24,9 @@ from studio.core.formats.face_parts import Part, choose_parts, suggest_names, su
 from studio.core.formats.fbx import load_fbx
 from studio.core.formats.gltf.codec import load_gltf
 from studio.core.formats.gltf.container import _Gltf
+from studio.core.formats.gltf.materials import _rgb
+from studio.core.formats.head_maps import HeadMaps
+from studio.core.formats.obj_maps import obj_head_maps
 from studio.core.formats.texture_sets import load_texture
 from studio.core.formats.usd import is_usd
 from studio.core.formats.usd.reader import load_usd
@@ -192,11 +195,16 @@ def project_from_files(mesh: str | Path, poses: Mapping[str, str | Path] | None 
             raise MeshError(f"two key poses are named '{pose_name}'", pose_path)
         key_poses.append(load_pose(pose_path, face, pose_name))
     not_skin = flags if flags is not None and flags.any() else None
+    own = obj_head_maps(mesh, face, not_skin) if not (diffuse and normal) else HeadMaps()
+    if report is not None:
+        report += own.lines
     face, tiles = pack_mesh(face, None if not_skin is None else ~not_skin)
     layout = tiles.layout if tiles is not None else None
     textures = FaceTextures(
-        diffuse=_texture(diffuse, layout, SKIN) if diffuse else plain_diffuse(),
-        normal_neutral=_texture(normal, layout, FLAT_NORMAL) if normal else flat_normal_map(),
+        diffuse=_own_or_given(diffuse, own, "diffuse", layout, SKIN) if diffuse
+        or own.diffuse is not None else plain_diffuse(),
+        normal_neutral=_own_or_given(normal, own, "normal", layout, FLAT_NORMAL) if normal
+        or own.normal is not None else flat_normal_map(),
         normal_wrinkled=_texture(wrinkled, layout, FLAT_NORMAL) if wrinkled
         else flat_normal_map(),
     )
@@ -238,6 +246,17 @@ def _texture(path: str | Path, layout: TileLayout | None, fill: tuple[int, int, 
              ) -> np.ndarray:
     """A texture file, or a UDIM set of them composed into the face's atlas."""
     return load_texture(path, layout, np.array(fill, np.uint8))
+
+
+def _own_or_given(given: str | Path | None, own: HeadMaps, slot: str,
+                  layout: TileLayout | None, fill: tuple[int, int, int]) -> np.ndarray:
+    """The map the user gave, else the one the OBJ's material names: as read for a face on
+    one tile, its file's UDIM set composed into the atlas otherwise."""
+    if given:
+        return _texture(given, layout, fill)
+    if layout is not None and not layout.trivial and slot in own.files:
+        return _texture(own.files[slot], layout, fill)
+    return _rgb(getattr(own, slot))
 
 
 def _from_gltf(path: str | Path, poses: Mapping[str, str | Path] | None,

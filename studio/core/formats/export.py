@@ -21,8 +21,8 @@ from studio.core.project.model import Project
 from studio.core.wrinkles.response import curves_to_dict
 from studio.paths import shader_dir
 
-SHADERS = ("common.glsl", "relief.glsl", "face.vert", "face.tesc", "face.tese", "face.frag",
-           "t1_compose.vert", "t1_compose.frag")
+SHADERS = ("common.glsl", "skin.glsl", "relief.glsl", "face.vert", "face.tesc", "face.tese",
+           "face.frag", "t1_compose.vert", "t1_compose.frag")
 
 
 def safe_name(name: str) -> str:

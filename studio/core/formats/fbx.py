@@ -25,17 +25,17 @@ import subprocess
 import sys
 import tempfile
 from collections.abc import Collection
-from pathlib import Path
+from pathlib import Path, PureWindowsPath
 
 import numpy as np
 
 from studio.core.files.budgets import FILE_BYTES, MESH_TRIANGLES, MESH_VERTICES
 from studio.core.files.errors import MeshError
-from studio.core.formats.gltf.face import choose_face, merge_face, report_lines
+from studio.core.formats.gltf.face import FaceChoice, choose_face, merge_face, report_lines
 from studio.core.formats.gltf.scene import MeshNode
+from studio.core.formats.head_maps import HeadMaps, MapSource, read_head_maps, skin_part
 from studio.core.formats.polygons import PolygonMesh, primitives, unwrapped
 from studio.core.project.model import Project
-from studio.core.wrinkles.textures import FaceTextures, flat_normal_map, plain_diffuse
 
 Array = np.ndarray
 CHILD_SECONDS = 300  # a reader stuck on a damaged file must not hold the studio forever
@@ -76,11 +76,42 @@ def load_fbx(path: str | Path, keep: Collection[str] | None = None,
         lines.append(line)
     name = _UNITS.get(round(unit, 6), f"{unit:g} m")
     lines.append(f"units: the file's ({name}); axes: the file's, turned to Y up, Z front")
-    textures = FaceTextures(plain_diffuse(), flat_normal_map(), flat_normal_map())
-    project = Project(path.stem, mesh, merged.poses, textures, not_face=merged.not_face)
+    maps = _skin_maps(data, choice, merged.primitive_of_triangle, path) if not bare \
+        else HeadMaps()
+    lines += maps.lines
+    project = Project(path.stem, mesh, merged.poses, maps.textures(), not_face=merged.not_face)
     if report is not None:
         report += lines
     return project
+
+
+def _skin_maps(data, choice: FaceChoice, primitive_of_triangle: Array, path: Path) -> HeadMaps:
+    """The skin material's base colour and normal map (core/formats/head_maps.py)."""
+    i, j = choice.kept[skin_part(choice, primitive_of_triangle)]
+    material = choice.meshes[i].primitives[j].material
+    names = [str(n) for n in data[f"m{i}_materials"]]
+    if material is None or material >= len(names):
+        return HeadMaps()
+    numbers = np.asarray(data[f"m{i}_maps"]).reshape(-1, 2)[material]
+    sources = {slot: _map_source(data, int(n), path) if n >= 0 else None
+               for slot, n in zip(("diffuse", "normal"), numbers, strict=True)}
+    return read_head_maps(sources, names[material], path)
+
+
+def _map_source(data, n: int, path: Path) -> MapSource:
+    """Where texture ``n`` of the file is: its embedded bytes, else the file it names —
+    resolved by ufbx, relative to the FBX, absolute as written, or beside the FBX by name
+    (where Blender looks for a texture moved with its file)."""
+    resolved, relative, absolute, _ = (str(n) for n in data[f"t{n}_names"])
+    written = relative or absolute or resolved
+    name = PureWindowsPath(written).name  # "/" and "\\" both separate
+    paths = [Path(p) for p in (resolved, absolute) if p]
+    if relative:
+        paths.insert(0, path.parent / relative.replace("\\", "/"))
+    if name:
+        paths.append(path.parent / name)
+    embedded = bytes(np.asarray(data[f"t{n}_data"], np.uint8))
+    return MapSource(written, embedded or None, paths)
 
 
 def _axes_matrix(path: Path, axes: list[int]) -> Array:
@@ -157,6 +188,7 @@ def _dump(path: str, out: str) -> None:
                                  "axes": np.array([int(axes.right), int(axes.up),
                                                    int(axes.front)])}
     count = 0
+    textures: dict[int, int] = {}  # ufbx element id -> number in the .npz
     for mesh in scene.meshes:
         positions = np.array(memoryview(mesh.vertices), np.float64).reshape(-1, 3)
         corners = np.fromiter(mesh.vertex_indices, np.int64)
@@ -165,7 +197,10 @@ def _dump(path: str, out: str) -> None:
         has_uv = bool(uv.exists)
         uvs = np.array(memoryview(uv.values), np.float64) if has_uv else np.zeros((0, 2))
         uv_index = np.fromiter(uv.indices, np.int64) if has_uv else np.zeros(0, np.int64)
-        materials = [m.name for m in mesh.materials]
+        materials, maps = [], []
+        for material in mesh.materials:  # each wrapper touched once (see above)
+            materials.append(material.name)
+            maps.append([_texture_slot(material, slot, textures) for slot in _MAP_SLOTS])
         face_material = (np.fromiter(mesh.face_material, np.int64) if materials
                          else np.zeros(len(sizes), np.int64))
         shapes, indices, offsets = [], [], []
@@ -188,6 +223,7 @@ def _dump(path: str, out: str) -> None:
                            prefix + "corners": corners, prefix + "sizes": sizes,
                            prefix + "uvs": uvs.reshape(-1, 2), prefix + "uv_index": uv_index,
                            prefix + "materials": np.array(materials, dtype=str),
+                           prefix + "maps": np.array(maps, np.int64).reshape(-1, 2),
                            prefix + "face_material": face_material,
                            prefix + "shapes": np.array(shapes, dtype=str),
                            prefix + "skinned": skinned})
@@ -196,9 +232,32 @@ def _dump(path: str, out: str) -> None:
                 arrays[prefix + f"s{s}_offset"] = offset.reshape(-1, 3)
             count += 1
     arrays["count"] = count
+    for texture, n in textures.items():
+        arrays[f"t{n}_names"], arrays[f"t{n}_data"] = _texture_files[texture]
     np.savez(out, **arrays)
     sys.stdout.flush()
     os._exit(0)  # no collection: the binding's wrappers crash when freed
+
+
+_MAP_SLOTS = (("base_color", "diffuse_color"), ("normal_map", "normal_map"))
+_texture_files: dict[int, tuple[Array, Array]] = {}  # in the child: each texture's files
+
+
+def _texture_slot(material, slot: tuple[str, str], textures: dict[int, int]) -> int:
+    """In the child: the number of the texture a material shows in ``slot`` (its PBR map,
+    else its classic FBX one), -1 for none; the texture's names and embedded bytes kept."""
+    texture = getattr(material.pbr, slot[0]).texture or getattr(material.fbx, slot[1]).texture
+    if texture is None:
+        return -1
+    key = int(texture.element_id)
+    if key not in textures:
+        textures[key] = len(textures)
+        names = [str(texture.filename), str(texture.relative_filename),
+                 str(texture.absolute_filename), str(texture.name)]
+        content = texture.content
+        _texture_files[key] = (np.array(names, dtype=str),
+                               np.frombuffer(bytes(content) if content else b"", np.uint8))
+    return textures[key]
 
 
 if __name__ == "__main__":

@@ -47,7 +47,7 @@ from studio.paths import resource_dir, shader_dir
 #: points at which each pose → area link's response curve is sampled for the page
 CURVE_SAMPLES = 257
 #: the studio's shader files the page compiles (``#include`` is resolved in the page)
-WEB_SHADERS = ("common.glsl", "face.vert", "face.frag")
+WEB_SHADERS = ("common.glsl", "skin.glsl", "face.vert", "face.frag")
 #: a pose delta smaller than this (model units, or unit-vector components) is left out
 DELTA_EPSILON = 1e-7
 

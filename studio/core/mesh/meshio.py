@@ -76,6 +76,7 @@ class _ObjData:
     # kind -> (names, (P,) index into names per polygon); kinds the file never names are absent
     labels: dict[str, tuple[list[str], Array]] = field(default_factory=dict)
     face_number: Array | None = None  # (P,) the file's polygon number, once filtered
+    libraries: list[str] = field(default_factory=list)  # ``mtllib`` lines, as written
     v_number: Array | None = None  # (N,) the file's v number of each position, once filtered
 
     def __post_init__(self) -> None:
@@ -248,6 +249,18 @@ def not_face_vertices(mesh: FaceMesh, names: Collection[str], kind: str | None =
     return (every > 0) & (flagged == every)
 
 
+def obj_materials(mesh: FaceMesh) -> tuple[list[str], list[str], Array] | None:
+    """An OBJ mesh's ``mtllib`` lines as written, its material names and the material of each
+    triangle (index into the names; the mesh's own triangles, in order): what finds the skin's
+    textures (core/formats/obj_maps.py). None for a mesh not read from an OBJ, or one that
+    names no material."""
+    info = _OBJ_INFO.get(mesh)
+    if info is None or "material" not in info.data.labels:
+        return None
+    names, ids = info.data.labels["material"]
+    return info.data.libraries, list(names), np.repeat(ids, info.data.sizes - 2)
+
+
 def save_obj(path: str | Path, mesh: FaceMesh, positions: Array | KeyPose | None = None) -> None:
     """Write the mesh (or a pose's welded positions on its topology) as OBJ with ``v/vt`` faces.
 
@@ -305,8 +318,8 @@ def _read_text(path: Path) -> str:
 
 
 def _parse_obj(path: Path, text: str) -> _ObjData:
-    """Parse ``v``, ``vt``, ``f`` and the part names ``o``, ``g``, ``usemtl``; everything else
-    (vn, s, mtllib, ...) is ignored.
+    """Parse ``v``, ``vt``, ``f``, the part names ``o``, ``g``, ``usemtl`` and the material
+    libraries ``mtllib`` names; everything else (vn, s, ...) is ignored.
 
     The loop over lines only sorts tokens; numbers are converted in bulk by numpy, and only when
     that fails is the file walked again to say which line is wrong. Part names are recorded
@@ -322,6 +335,7 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
     f_nv: list[int] = []  # vertices defined before the face: base of negative indices
     f_nvt: list[int] = []
     changes: dict[str, list[tuple[int, str]]] = {kind: [] for kind in KINDS}
+    libraries: list[str] = []
     for lineno, line in enumerate(text.splitlines(), 1):
         parts = line.split()
         if not parts:
@@ -351,6 +365,8 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
             f_line.append(lineno)
             f_nv.append(len(v_tok))
             f_nvt.append(len(vt_tok))
+        elif key == "mtllib":
+            libraries.append(line.strip()[len(key):].strip())
         elif key in _KEYWORD:
             kind = _KEYWORD[key]
             changes[kind].append((len(sizes), " ".join(parts[1:]) or _UNNAMED[kind]))
@@ -375,7 +391,8 @@ def _parse_obj(path: Path, text: str) -> _ObjData:
     )
     labels = {kind: _spread_names(kind, changes[kind], len(sizes)) for kind in KINDS
               if changes[kind]}
-    return _ObjData(positions, uvs, size_arr, corner_v, corner_vt, lines, labels)
+    return _ObjData(positions, uvs, size_arr, corner_v, corner_vt, lines, labels,
+                    libraries=libraries)
 
 
 def _spread_names(kind: str, changes: list[tuple[int, str]], n_faces: int
@@ -554,6 +571,7 @@ def _compact(data: _ObjData, keep: Array) -> _ObjData:
         labels={kind: (names, ids[keep]) for kind, (names, ids) in data.labels.items()},
         face_number=data.face_number[keep],
         v_number=data.v_number[used],
+        libraries=data.libraries,
     )
 
 

@@ -16,6 +16,7 @@ from typing import Any
 
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
+from studio.core.wrinkles.skin_light import LOOKS, RIG_NAMES
 from studio.core.wrinkles.techniques import TECHNIQUES
 
 # heat: the wrinkle weight; heat-shows: the weight times how much the revealed wrinkled map
@@ -27,7 +28,8 @@ RELIEFS = ("off", "displace", "parallax")  # displace: tessellation (OpenGL 4.0)
 
 CHOICES: dict[str, tuple[str, ...]] = {"technique": tuple(TECHNIQUES), "debug_view": DEBUG_VIEWS,
                                        "blend": BLENDS, "relief": RELIEFS,
-                                       "tangent_frame": TANGENT_FRAMES}
+                                       "tangent_frame": TANGENT_FRAMES, "look": LOOKS,
+                                       "light_rig": RIG_NAMES}
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,9 @@ class ViewSettings:
     # the frame the normal maps are read in (core/tangent_frames.py): it is the project's, as
     # the baker bakes and the glTF export writes TANGENT in it too
     tangent_frame: str = DEFAULT_TANGENT_FRAME
+    # clay: the first shading (common.glsl); skin: skin.glsl under the rig (core/skin_light.py)
+    look: str = "clay"
+    light_rig: str = "studio"  # studio | overcast | raking: the skin look's lights
 
     def __post_init__(self) -> None:
         for name, allowed in CHOICES.items():

@@ -11,7 +11,8 @@ holds rendered pixels of small hand-built faces to them. Per pixel:
   view space by the tangent frame;
 - blend "colour" (the thesis): (1 − W) · light(neutral) + Σ w_m · light(wrinkled_m), then
   albedo · (ambient + diffuse) + specular; blend "normal": the same average of the normals,
-  lit once;
+  lit once; the skin look (a ``Rig`` given) receives and finishes the light by skin_light.py
+  (shaders/skin.glsl) instead;
 - the debug views: "heat" the weight W, "heat-shows" what the weights reveal,
   clamp(Σ w_m · |wrinkled_m − neutral| / SHOWS_FULL, 0, 1), both in the shader's palette over a
   dimmed shading; "normals" the blended normal; "uv" a checker of the texture coordinates.
@@ -24,6 +25,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from studio.core.wrinkles.skin_light import Rig, skin_colour, skin_received
 
 Array = np.ndarray
 
@@ -131,10 +134,20 @@ class Fragment:
     texcoord: Array
 
 
+def _received(n: Array, view_dir: Array, lighting: Lighting, rig: Rig | None
+              ) -> tuple[Array, Array]:
+    """((..., 3) diffuse, (..., 3) specular) on unit normals: face.frag's ``add_light``."""
+    if rig is not None:
+        return skin_received(n, view_dir, rig)
+    r = light(n, view_dir, lighting)
+    return np.repeat(r[..., :1], 3, axis=-1), np.repeat(r[..., 1:], 3, axis=-1)
+
+
 def fragment_colour(f: Fragment, *, blend: str = "colour", view: str = "shaded",
-                    lighting: Lighting = Lighting()) -> Array:
+                    lighting: Lighting = Lighting(), rig: Rig | None = None) -> Array:
     """(..., 3) the sRGB colour face.frag writes, in [0, 1] (a wrinkle technique without
-    relief: technique 1, 2 or automatic; technique "none" is all weights 0)."""
+    relief: technique 1, 2 or automatic; technique "none" is all weights 0); ``rig``: the
+    skin look under that rig, None for clay."""
     if blend not in ("colour", "normal"):
         raise ValueError(f"unknown blend '{blend}'")
     maps = f.wrinkled.shape[-2]
@@ -148,12 +161,16 @@ def fragment_colour(f: Fragment, *, blend: str = "colour", view: str = "shaded",
     n = _unit(n_neutral * (1.0 - total)[..., None] + (w[..., None] * n_wrinkled).sum(axis=-2))
     albedo = srgb_to_linear(np.asarray(f.albedo, np.float64))
     if blend == "normal":
-        received = light(n, view_dir, lighting)
+        diffuse, specular = _received(n, view_dir, lighting, rig)
     else:
-        received = (light(n_neutral, view_dir, lighting) * (1.0 - total)[..., None]
-                    + (w[..., None] * light(n_wrinkled, view_dir[..., None, :], lighting)
-                       ).sum(axis=-2))
-    colour = albedo * (lighting.ambient + received[..., :1]) + received[..., 1:]
+        pairs = [_received(n_neutral, view_dir, lighting, rig),
+                 _received(n_wrinkled, view_dir[..., None, :], lighting, rig)]
+        diffuse, specular = (pairs[0][k] * (1.0 - total)[..., None]
+                             + (w[..., None] * pairs[1][k]).sum(axis=-2) for k in (0, 1))
+    if rig is not None:
+        colour = skin_colour(albedo, diffuse, specular, rig)
+    else:
+        colour = albedo * (lighting.ambient + diffuse) + specular
     if view in HEAT_VIEWS:
         if view == "heat":
             t = total

@@ -16,6 +16,11 @@ Array = np.ndarray
 SKIN = (205, 160, 140)  # the diffuse colour of a face imported without a diffuse map
 
 
+# a head's own map by slot: what the report calls it, and what shows when the file's is missing
+MAP_WORDS = {"diffuse": ("diffuse map", "plain skin colour"),
+             "normal": ("normal map", "a flat normal map")}
+
+
 def plain_diffuse(size: int = 256) -> Array:
     image = np.empty((size, size, 3), np.uint8)
     image[...] = SKIN

@@ -184,8 +184,9 @@ def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str
         choice.see_through = see_through(g, choice)
     merged = merge_face(choice, str(g.path))
     made = _made_uvs(g, choice, merged)
+    said: list[str] = []  # textures missing or unreadable
     if made is None:
-        mesh, tiles, textures = atlas_textures(g, choice, merged)
+        mesh, tiles, textures = atlas_textures(g, choice, merged, said)
     else:
         mesh, tiles = made.mesh, None
         textures = FaceTextures(plain_diffuse(), flat_normal_map(), flat_normal_map())
@@ -204,7 +205,7 @@ def _load_scene(g: _Gltf, keep: Collection[str] | None, not_face: Collection[str
         if timeline is not None:
             project.timeline = timeline
     if report is not None:
-        report += report_lines(choice, merged)
+        report += report_lines(choice, merged) + said
         if made is not None:
             report.append(made.report(g.path))
     return project

@@ -11,9 +11,12 @@ a material without an image filled with its base colour. Faces whose UVs already
 
 from __future__ import annotations
 
+from urllib.parse import unquote
+
 import numpy as np
 
-from studio.core.files.errors import MeshError
+from studio.core.files.errors import ImageError, MeshError
+from studio.core.files.naming import shown
 from studio.core.formats.gltf.container import _Gltf, _item, _list, _whole
 from studio.core.formats.gltf.face import FaceChoice, MergedFace
 from studio.core.formats.gltf.scene import Primitive
@@ -26,7 +29,13 @@ from studio.core.mesh.uv_tiles import (
     pack_mesh,
     tile_origin,
 )
-from studio.core.wrinkles.textures import SKIN, FaceTextures, flat_normal_map, plain_diffuse
+from studio.core.wrinkles.textures import (
+    MAP_WORDS,
+    SKIN,
+    FaceTextures,
+    flat_normal_map,
+    plain_diffuse,
+)
 
 Array = np.ndarray
 FLAT_NORMAL = (128, 128, 255)
@@ -116,10 +125,36 @@ def _colour(material: dict) -> tuple[int, int, int]:
     return red, green, blue
 
 
-def atlas_textures(g: _Gltf, choice: FaceChoice, merged: MergedFace
+def shown_texture(g: _Gltf, info: dict | None, material: dict, slot: str,
+                  lines: list[str]) -> Array | None:
+    """A material's base-colour or normal texture (``slot``: "diffuse" or "normal"), None
+    when it has none, or when its image file is missing or unreadable: that is said in
+    ``lines`` and the head keeps plain skin or a flat map (core/formats/head_maps.py), as
+    Blender opens such a material untextured. A damaged file structure is still refused."""
+    if not (isinstance(info, dict) and "index" in info):
+        return None
+    word, fallback = MAP_WORDS[slot]
+    source = texture_source(g, info)
+    spec = _item(g, "images", source)
+    said = (f"{word}: image {shown(spec.get('uri') or source)} of material "
+            f"{shown(material.get('name') or '(unnamed)')}")
+    uri = spec.get("uri")
+    if isinstance(uri, str) and not uri.startswith("data:") and ":" not in uri.split("/")[0] \
+            and not (g.path.parent / unquote(uri)).is_file():
+        lines.append(f"{said} not found beside the file: {fallback}")
+        return None
+    try:
+        return _rgb(g.image(source))
+    except ImageError as exc:
+        lines.append(f"{said} is unreadable ({exc.problem}): {fallback}")
+        return None
+
+
+def atlas_textures(g: _Gltf, choice: FaceChoice, merged: MergedFace, lines: list[str]
                    ) -> tuple[FaceMesh, UvTiles | None, FaceTextures]:
     """The face's mesh with its UVs in the atlas, its tiles, and the maps; the mesh as it was,
-    no tiles and the skin material's own maps when one material (or a UDIM layout) serves."""
+    no tiles and the skin material's own maps when one material (or a UDIM layout) serves.
+    A texture missing or unreadable is said in ``lines`` (``shown_texture``)."""
     mesh = merged.mesh
     materials = [choice.meshes[i].primitives[j].material for i, j in choice.kept]
     keys = [_image_key(g, _material(g, m), m) for m in materials]
@@ -132,7 +167,7 @@ def atlas_textures(g: _Gltf, choice: FaceChoice, merged: MergedFace
     inside = (uvs.min() >= -EDGE) and (uvs.max() <= 1.0 + EDGE)
     face_material = _material(g, materials[keys.index(face_key)])
     if len(order) == 1 or not inside:
-        return mesh, None, _own_maps(g, face_material)
+        return mesh, None, _own_maps(g, face_material, lines)
     vertex_prim = np.zeros(mesh.n_vertices, np.int64)
     vertex_prim[mesh.triangles] = merged.primitive_of_triangle[:, None]
     tile = np.array([tile_of_key[key] for key in keys])[vertex_prim]
@@ -146,12 +181,12 @@ def atlas_textures(g: _Gltf, choice: FaceChoice, merged: MergedFace
     diffuse, normal = {}, {}
     for key, index in first.items():
         material = _material(g, index)
-        image = _rgb(g.texture_image(material.get("pbrMetallicRoughness", {}).get(
-            "baseColorTexture")))
+        image = shown_texture(g, material.get("pbrMetallicRoughness", {}).get(
+            "baseColorTexture"), material, "diffuse", lines)
         fill = SKIN if key == face_key else _colour(material)
         diffuse[tile_of_key[key]] = image if image is not None else np.full((4, 4, 3), fill,
                                                                             np.uint8)
-        bump = _rgb(g.texture_image(material.get("normalTexture")))
+        bump = shown_texture(g, material.get("normalTexture"), material, "normal", lines)
         if bump is not None:
             normal[tile_of_key[key]] = bump
     side = max((max(im.shape[:2]) for im in [*diffuse.values(), *normal.values()]),
@@ -165,12 +200,14 @@ def atlas_textures(g: _Gltf, choice: FaceChoice, merged: MergedFace
     return packed, tiles, textures
 
 
-def _own_maps(g: _Gltf, material: dict) -> FaceTextures:
+def _own_maps(g: _Gltf, material: dict, lines: list[str]) -> FaceTextures:
     """One material's maps as they are (a missing one plain or flat)."""
     pbr = material.get("pbrMetallicRoughness", {})
+    diffuse = shown_texture(g, pbr.get("baseColorTexture"), material, "diffuse", lines)
+    normal = shown_texture(g, material.get("normalTexture"), material, "normal", lines)
     return FaceTextures(
-        diffuse=_rgb(g.texture_image(pbr.get("baseColorTexture")), plain_diffuse()),
-        normal_neutral=_rgb(g.texture_image(material.get("normalTexture")), flat_normal_map()),
+        diffuse=diffuse if diffuse is not None else plain_diffuse(),
+        normal_neutral=normal if normal is not None else flat_normal_map(),
         normal_wrinkled=_rgb(wrinkle_image(g, material), flat_normal_map()))
 
 

@@ -15,9 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from studio.core.files.budgets import FILE_BYTES, GLTF_IMAGE_BYTES, IMAGE_BYTES
+from studio.core.files.budgets import FILE_BYTES
 from studio.core.files.errors import MeshError
-from studio.core.files.images import decode_image, decoded_bytes
+from studio.core.files.images import decode_image
+from studio.core.formats.head_maps import ImageBudget
 
 Array = np.ndarray
 PREVIEW_SURFACE = "UsdPreviewSurface"
@@ -118,21 +119,6 @@ class Diffuse:
 
     image: Array | None
     note: str | None  # what the report says when the texture named cannot be found
-
-
-class ImageBudget:
-    """The decoded bytes of the images one file's face uses, as the glTF reader counts them."""
-
-    def __init__(self, path: object) -> None:
-        self.path = path
-        self.total = 0
-
-    def take(self, data: bytes, what: str) -> None:
-        size = decoded_bytes(data)  # from the header, before anything is decoded
-        IMAGE_BYTES.check(size, f"{what} decoded", self.path, MeshError)
-        self.total += size
-        GLTF_IMAGE_BYTES.check(self.total, f"the images decoded, with {what},", self.path,
-                               MeshError)
 
 
 def diffuse_image(material, budget: ImageBudget) -> Diffuse:

@@ -12,13 +12,12 @@ from __future__ import annotations
 from collections.abc import Collection
 from pathlib import Path
 
-import numpy as np
-
 from studio.core.files.errors import MeshError
 from studio.core.formats.gltf.face import FaceChoice, choose_face, merge_face, report_lines
 from studio.core.formats.gltf.materials import _rgb
+from studio.core.formats.head_maps import ImageBudget, skin_part
 from studio.core.formats.polygons import unwrapped
-from studio.core.formats.usd.materials import Diffuse, ImageBudget, diffuse_image, texture_path
+from studio.core.formats.usd.materials import Diffuse, diffuse_image, texture_path
 from studio.core.formats.usd.meshes import UsdMesh, read_meshes
 from studio.core.formats.usd.setup import neutral_map as _neutral_map
 from studio.core.formats.usd.setup import restore_setup, studio_mesh
@@ -93,13 +92,11 @@ def _skin_diffuse(meshes: list[UsdMesh], choice: FaceChoice, primitive_of_triang
                   path: Path, lines: list[str]) -> Diffuse:
     """The diffuse image of the face's skin material: that of its largest kept part not
     marked not face; the other materials' textures, when they differ, said to be left out."""
-    sizes = np.bincount(primitive_of_triangle, minlength=len(choice.kept))
-    skin = [k for k, key in enumerate(choice.kept) if key not in choice.not_face] or [0]
     materials = []
     for i, j in choice.kept:
         node = meshes[i].node
         materials.append(meshes[i].materials.materials[node.primitives[j].material])
-    face = materials[max(skin, key=lambda k: sizes[k])]
+    face = materials[skin_part(choice, primitive_of_triangle)]
     diffuse = diffuse_image(face, ImageBudget(path))
     shown = texture_path(face)
     others = sorted({m.GetPrim().GetName() for m in materials
