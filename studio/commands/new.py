@@ -4,11 +4,14 @@ targets, and texture maps."""
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from studio.core.files.errors import StudioError
 from studio.core.files.naming import shown, shown_list
 from studio.core.mesh.file_kinds import kinds_read
+
+EXIT_CANCELLED = 130  # as a shell reports a command stopped by Ctrl+C
 
 
 def parse_pose(text: str) -> tuple[str, str]:
@@ -87,10 +90,12 @@ def _obj_choice(args: argparse.Namespace, found: list[str]
 
 
 def run(args: argparse.Namespace) -> int:
+    from studio.commands.progress_bar import ProgressBar
     from studio.core.files.safe_io import check_output
     from studio.core.project.writer import save_project
     from studio.core.setup.face_frame import parse_axis
     from studio.core.setup.new_setup import new_project
+    from studio.core.setup.stage_clock import StageClock, stage
 
     for axis in (args.up, args.front):
         if axis is not None:
@@ -103,13 +108,23 @@ def run(args: argparse.Namespace) -> int:
         raise StudioError("two --pose options have the same name")
     found: list[str] = []  # what was chosen in an OBJ's parts, then in the files
     keep, not_face = _obj_choice(args, found)
-    made = new_project(args.mesh or args.gltf, dict(args.pose), args.diffuse, args.normal,
-                       args.wrinkle_normal, flip=args.flip_green, keep=keep,
-                       not_face=not_face, up=args.up, front=args.front, auto=args.auto)
+    out = Path(args.output)
+    bar = ProgressBar()
+    try:  # Ctrl+C stops it: the project file is written whole at the end, or not at all
+        with StageClock(heard=bar.stage).running():
+            made = new_project(args.mesh or args.gltf, dict(args.pose), args.diffuse,
+                               args.normal, args.wrinkle_normal, flip=args.flip_green,
+                               keep=keep, not_face=not_face, up=args.up, front=args.front,
+                               auto=args.auto, progress=bar.step)
+            with stage("writing"):
+                save_project(made.project, out)
+    except KeyboardInterrupt:
+        bar.close()
+        print(f"cancelled: {shown(out)} not written", file=sys.stderr)
+        return EXIT_CANCELLED
+    bar.close()
     project, done = made.project, made.done or []
     found += made.found
-    out = Path(args.output)
-    save_project(project, out)
     # names come from the user's files: each shown on the line it belongs to, escaped
     print(f"wrote {shown(out)}: {project.mesh.n_welded} vertices, key poses: "
           f"{shown_list((p.name for p in project.poses), limit=1000) or 'none'}")

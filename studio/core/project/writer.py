@@ -9,6 +9,7 @@ import shutil
 import time
 import zipfile
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ import numpy as np
 
 from studio.core.files.atomic_write import atomic_output
 from studio.core.files.budgets import check_json_depth
+from studio.core.files.cores import usable_cores
 from studio.core.files.errors import ProjectError
 from studio.core.files.png import encode_png
 from studio.core.files.processes import process_tag
@@ -44,6 +46,9 @@ from studio.core.project.schema import (
 from studio.core.wrinkles.response import curves_to_dict
 
 Array = np.ndarray
+
+ENCODE_THREADS = 4  # images compressed at once (each holds one image's blocks)
+
 
 def save_project(project: Project, path: str | Path, backup: bool = True) -> None:
     """Write ``project`` to ``path`` atomically: the old file survives any failure.
@@ -95,13 +100,17 @@ def keep_backup(target: Path) -> None:
 
 def _write_archive(handle: Any, project: Project, document: bytes) -> None:
     stamp = time.localtime()[:6]
-    with zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as archive:
-        for name, encode, value in _members(project, document):
+    members = list(_members(project, document))
+    # the images are compressed side by side (zlib lets go of the interpreter), written in order
+    with (zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as archive,
+          ThreadPoolExecutor(usable_cores(ENCODE_THREADS)) as pool):
+        encoded = pool.map(lambda member: member[1](member[2]), members)
+        for (name, _, _), data in zip(members, encoded, strict=True):
             info = zipfile.ZipInfo(name, date_time=stamp)
             info.compress_type = zipfile.ZIP_STORED if name.endswith(".png") else \
                 zipfile.ZIP_DEFLATED
             info.external_attr = 0o644 << 16
-            archive.writestr(info, encode(value))
+            archive.writestr(info, data)
 
 
 def _members(project: Project,

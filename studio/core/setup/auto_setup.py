@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import colorsys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -27,7 +28,13 @@ from studio.core.files.naming import unique_name
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.selection import suggest
 from studio.core.project.model import Project
-from studio.core.setup.wrinkle_synth import UvRaster, fill_placeholder, placed_lines
+from studio.core.setup.stage_clock import stage
+from studio.core.setup.wrinkle_synth import (
+    UvRaster,
+    fill_placeholder,
+    placed_lines,
+    pose_workers,
+)
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.influence import InfluenceArea
 from studio.core.wrinkles.skin_strain import PoseStrain, SkinStrain, compression_weights
@@ -202,7 +209,8 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     names = [p.name for p in project.poses] if poses is None else list(poses)
     shape = setup_mask_size(project, mask_size)
     if placed is None:
-        placed = placed_lines(project, [n for n in names if n != NEUTRAL], frame)
+        with stage("strain"):
+            placed = placed_lines(project, [n for n in names if n != NEUTRAL], frame)
     rest = project.mesh.rest
     report = AutoSetupReport()
     wdv_taken = [a.name for a in project.wdv.areas]
@@ -210,7 +218,8 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
     skin = project.skin_weights()
     strain = SkinStrain(project.mesh, skin)
     size = face_size(project)
-    raster = UvRaster(project.skin_mesh(), min(max(shape), SETUP_WORK_SIZE))
+    with stage("masks"):
+        raster = UvRaster(project.skin_mesh(), min(max(shape), SETUP_WORK_SIZE))
     motions: dict[str, Array] = {}  # what each pose does, for narrowing the areas' cones
     squeezed: dict[str, Array] = {}
     for done, name in enumerate(names, start=1):
@@ -222,36 +231,28 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         moved = skin_target(project, target)
         motion = float(np.linalg.norm(moved - rest, axis=1).max(initial=0.0)) / size
         colour = area_colour(len(report.wdv_areas) + len(report.flat_poses))
-        area = None
+        with stage("vectors"):
+            area = _pose_vectors(name, rest, moved, motion, fraction, placed, wdv_taken,
+                                 colour)
         if motion > STILL_MOTION:
-            selected = suggest(rest, moved, fraction)
-            # anatomy's lines, and what the pose moves around them only: its vectors
-            # elsewhere would reveal other poses' furrows on its map (a sneer's, pulling the
-            # brow down, a frown's lines between the brows)
-            selected = placed_or_own(selected, placed.get(name), True)
-            area = wdv_area_from_selection(unique_name(name, wdv_taken), name, rest, moved,
-                                           selected, colour=colour)
             motions[name] = (moved - rest).astype(np.float32)
-            if area is not None and name in placed:
-                # a brow lowerer and its mirror pull the skin between the brows apart and down
-                # (a frown, both at once, straight down): lines there show for either and both
-                area.cone_angles_deg = np.where(placed[name][0] & area.authored, PLACED_CONE,
-                                                0.0).astype(np.float32)
         if area is None:
             report.still_poses.append(name)
         else:
             wdv_taken.append(area.name)
             report.wdv_areas.append(area)
-        pose_strain = strain.of(target)
-        summary = strain.summary(pose_strain, motion if motion > STILL_MOTION else 0.0)
-        report.strains[name] = summary
-        if locate is not None and summary.centre is not None:
-            report.regions[name] = locate(summary.centre)
-        # its mask holds anatomy's lines whole, and it wrinkles only there
-        own = compression_weights(strain, pose_strain.compression, threshold)
+        with stage("strain"):
+            pose_strain = strain.of(target)
+            summary = strain.summary(pose_strain, motion if motion > STILL_MOTION else 0.0)
+            report.strains[name] = summary
+            if locate is not None and summary.centre is not None:
+                report.regions[name] = locate(summary.centre)
+            # its mask holds anatomy's lines whole, and it wrinkles only there
+            own = compression_weights(strain, pose_strain.compression, threshold)
         weights = placed_or_own(own, placed.get(name), 1.0)
         squeezed[name] = weights
-        mask = mask_from_weights(project.mesh, weights, shape, softness, raster)
+        with stage("masks"):
+            mask = mask_from_weights(project.mesh, weights, shape, softness, raster)
         if not mask.any():
             report.flat_poses.append(name)
             report.no_mask[name] = (UNDER_A_TEXEL if summary.compresses
@@ -261,9 +262,33 @@ def suggest_setup(project: Project, *, mask_size: int | None = None,
         mask_taken.append(mask_area.name)
         report.influence_areas.append(mask_area)
         report.links.setdefault(name, {})[mask_area.name] = 1.0
-    narrow_cones(report.wdv_areas, motions, squeezed,
-                 {name: np.asarray(v[0], bool) for name, v in placed.items()})
+    with stage("vectors"):
+        narrow_cones(report.wdv_areas, motions, squeezed,
+                     {name: np.asarray(v[0], bool) for name, v in placed.items()})
     return report
+
+
+def _pose_vectors(name: str, rest: Array, moved: Array, motion: float, fraction: float,
+                  placed: Mapping[str, tuple[Array, Array]], taken: list[str],
+                  colour: tuple[int, int, int]) -> WdvArea | None:
+    """A pose's technique-2 area (``suggest_setup``): on the vertices it moves by more than
+    ``fraction`` of its largest skin motion (``moved``: its target, not-face held at rest),
+    narrowed to anatomy's lines where it places some; None for a pose that moves no skin."""
+    if motion <= STILL_MOTION:
+        return None
+    selected = suggest(rest, moved, fraction)
+    # anatomy's lines, and what the pose moves around them only: its vectors
+    # elsewhere would reveal other poses' furrows on its map (a sneer's, pulling the
+    # brow down, a frown's lines between the brows)
+    selected = placed_or_own(selected, placed.get(name), True)
+    area = wdv_area_from_selection(unique_name(name, taken), name, rest, moved, selected,
+                                   colour=colour)
+    if area is not None and name in placed:
+        # a brow lowerer and its mirror pull the skin between the brows apart and down
+        # (a frown, both at once, straight down): lines there show for either and both
+        area.cone_angles_deg = np.where(placed[name][0] & area.authored, PLACED_CONE,
+                                        0.0).astype(np.float32)
+    return area
 
 
 def placed_or_own(own: Array, place: tuple[Array, Array] | None, on_lines: float | bool
@@ -299,27 +324,34 @@ def narrow_cones(areas: Sequence[WdvArea], motions: Mapping[str, Array],
     vertices of the lines anatomy placed for a pose; on them only another pose whose own
     placed lines lie there too keeps the cone by squeezing the skin — a brow raise squeezes
     the skin between the inner eye and the nose, and showed a squint's lines under the eye
-    there; a left brow lowerer squeezes the right one's line, and showed it."""
-    for area in areas:
-        index = np.flatnonzero(area.authored)
-        direction = area.directions[index].astype(np.float64)
-        length = area.lengths[index].astype(np.float64)
-        full = area.vertex_cones_deg()[index].astype(np.float64)
-        cone = full.copy()
-        for at, delta, squeeze, least in _others(area, index, length, motions, squeezed,
-                                                 lines):
-            size = np.linalg.norm(delta, axis=1)
-            cos = np.einsum("ij,ij->i", delta, direction[at]) / np.maximum(size, 1e-300)
-            alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-            shown = size / np.maximum(length[at], 1e-300) * (1.0 - alpha / full[at])
-            crosses = ((size > 0.0) & (alpha < full[at]) & (shown > least)
-                       & (squeeze < CROSS_SQUEEZED))
-            np.minimum.at(cone, at[crosses], np.maximum(CONE_SHRINK * alpha[crosses], LEAST_CONE))
-        if (cone < full).any():
-            painted = (np.zeros(len(area.lengths), np.float32) if area.cone_angles_deg is None
-                       else area.cone_angles_deg.copy())
-            painted[index] = np.where(cone < full, cone, painted[index])
-            area.cone_angles_deg = painted
+    there; a left brow lowerer squeezes the right one's line, and showed it. The areas are
+    independent: narrowed on every core the process may use (``pose_workers``)."""
+    with ThreadPoolExecutor(pose_workers()) as pool:
+        list(pool.map(lambda area: _narrow_area(area, motions, squeezed, lines), areas))
+
+
+def _narrow_area(area: WdvArea, motions: Mapping[str, Array], squeezed: Mapping[str, Array],
+                 lines: Mapping[str, Array] | None) -> None:
+    """``narrow_cones`` for one area: its cones, painted where they narrow."""
+    index = np.flatnonzero(area.authored)
+    direction = area.directions[index].astype(np.float64)
+    length = area.lengths[index].astype(np.float64)
+    full = area.vertex_cones_deg()[index].astype(np.float64)
+    cone = full.copy()
+    for at, delta, squeeze, least in _others(area, index, length, motions, squeezed,
+                                             lines):
+        size = np.linalg.norm(delta, axis=1)
+        cos = np.einsum("ij,ij->i", delta, direction[at]) / np.maximum(size, 1e-300)
+        alpha = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+        shown = size / np.maximum(length[at], 1e-300) * (1.0 - alpha / full[at])
+        crosses = ((size > 0.0) & (alpha < full[at]) & (shown > least)
+                   & (squeeze < CROSS_SQUEEZED))
+        np.minimum.at(cone, at[crosses], np.maximum(CONE_SHRINK * alpha[crosses], LEAST_CONE))
+    if (cone < full).any():
+        painted = (np.zeros(len(area.lengths), np.float32) if area.cone_angles_deg is None
+                   else area.cone_angles_deg.copy())
+        painted[index] = np.where(cone < full, cone, painted[index])
+        area.cone_angles_deg = painted
 
 
 def _others(area: WdvArea, index: Array, length: Array, motions: Mapping[str, Array],
@@ -399,7 +431,7 @@ def auto_setup(project: Project, *, mask_size: int | None = None, **options) -> 
 
 def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
                progress: Callable[[int, int], bool] | None = None,
-               poses: Sequence[str] | None = None) -> list[str] | None:
+               poses: Sequence[str] | None = None, frame=None) -> list[str] | None:
     """``wrinkle-studio new --auto``: the automatic setup and, for a face that came without a
     wrinkled normal map (a flat placeholder), maps synthesised from its key poses — several
     where poses' furrows cross, each pose's areas revealing its own — so that the imported face
@@ -407,7 +439,9 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
     untouched, if ``progress`` (done, total: the synthesis's steps then the set-up's) returned
     False. ``poses``: the key poses to set up (default all), e.g. a rig's wrinkling ones.
     Where anatomy places a pose's lines (a frown's), its mask and vectors hold them whole, as
-    Tools ▸ Auto Setup's do: both go through ``suggest_setup``."""
+    Tools ▸ Auto Setup's do: both go through ``suggest_setup``. ``frame``: the face's frame
+    (``face_frame.face_frame``), when the caller has found it: the synthesis and the set-up
+    share it rather than find it again, a second each on the sample."""
     steps = len(project.poses) if poses is None else len(poses)
     textures = dict(project.textures.wrinkle_maps)
 
@@ -418,9 +452,10 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
         before = steps if made else 0
         return progress is None or progress(before + done, before + total)
 
-    made = fill_placeholder(project, progress=synth_progress, poses=poses)
+    with stage("synthesis"):
+        made = fill_placeholder(project, progress=synth_progress, poses=poses, frame=frame)
     report = None if made is None else suggest_setup(
-        project, locate=locate, progress=setup_progress, poses=poses)
+        project, locate=locate, progress=setup_progress, poses=poses, frame=frame)
     if made is None or report is None:
         project.textures.wrinkle_maps = textures
         return None

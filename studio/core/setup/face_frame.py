@@ -41,6 +41,7 @@ from studio.core.setup.face_features import (
     find_face_features,
     unique_edges,
 )
+from studio.core.setup.stage_clock import stage
 
 Array = np.ndarray
 
@@ -106,10 +107,11 @@ def _snap(vector: Array, allowed: Iterable[str] = AXES) -> tuple[Array, bool]:
 def face_frame(project) -> FaceFrame:
     """A project's face frame (``project.view["up"]`` and ``["front"]`` are the axes chosen at
     import, if any). ``project`` is a ``studio.core.project.model.Project``."""
-    return detect_face_frame(project.mesh.rest, project.mesh.welded_triangles,
-                             [p.positions for p in project.poses],
-                             [p.name for p in project.poses], project.skin_weights(),
-                             project.view.get("up"), project.view.get("front"))
+    with stage("orientation"):
+        return detect_face_frame(project.mesh.rest, project.mesh.welded_triangles,
+                                 [p.positions for p in project.poses],
+                                 [p.name for p in project.poses], project.skin_weights(),
+                                 project.view.get("up"), project.view.get("front"))
 
 
 def beyond_the_head(frame: FaceFrame, rest: Array, skin: Array) -> Array | None:

@@ -23,6 +23,7 @@ from studio.core.setup.face_frame import (
     face_locator,
     parse_axis,
 )
+from studio.core.setup.stage_clock import stage
 from studio.core.wrinkles.normalmap import flip_green
 
 Progress = Callable[[int, int], bool]
@@ -54,14 +55,16 @@ def new_project(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
         if axis is not None:
             parse_axis(axis)  # a bad axis fails before any file is read
     found: list[str] = []
-    project = project_from_files(mesh, dict(poses or {}), diffuse, normal, wrinkled,
-                                 keep=keep, not_face=not_face, part_kind=part_kind,
-                                 report=found)
-    if flip:
-        _flip_normal_maps(project)
+    with stage("reading"):
+        project = project_from_files(mesh, dict(poses or {}), diffuse, normal, wrinkled,
+                                     keep=keep, not_face=not_face, part_kind=part_kind,
+                                     report=found)
+        if flip:
+            _flip_normal_maps(project)
     _choose_axes(project, up, front)
-    toggles = leave_out_toggles(project, found) if auto else set()
-    frame = _mark_body(project, found)
+    with stage("face finding"):
+        toggles = leave_out_toggles(project, found) if auto else set()
+        frame = _mark_body(project, found)
     done: list[str] | None = []
     if auto:
         carried = set_up_poses(project)
@@ -70,7 +73,7 @@ def new_project(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
             found.append(f"already set up in the file, kept: {', '.join(sorted(carried))}")
         if wanted:
             done = auto_start(project, locate=face_locator(frame), progress=progress,
-                              poses=wanted if toggles or carried else None)
+                              poses=wanted if toggles or carried else None, frame=frame)
     return NewSetup(project, found, frame.how, done)
 
 

@@ -14,6 +14,7 @@ from studio.core.project.model import Project
 from studio.core.sample.ict_head import load_ict_head
 from studio.core.setup.auto_setup import auto_start
 from studio.core.setup.face_frame import face_frame, face_locator
+from studio.core.setup.stage_clock import stage
 
 # The expressions that wrinkle, by region: each gets an influence area and wrinkle vectors.
 WRINKLING = {
@@ -63,9 +64,11 @@ def ready_sample(progress: Callable[[int, int], bool] | None = None) -> Project 
     """The bundled sample as the studio opens on it: the head with all 53 expressions, the
     automatic set-up of the wrinkling ones (an area and wrinkle vectors each, wrinkled maps
     synthesised from them) and a timeline of a few expressions. None if ``progress`` stopped."""
-    project = load_ict_head()
-    if auto_start(project, locate=face_locator(face_frame(project)), progress=progress,
-                  poses=wrinkling_poses()) is None:
+    with stage("reading"):
+        project = load_ict_head()
+    frame = face_frame(project)
+    if auto_start(project, locate=face_locator(frame), progress=progress,
+                  poses=wrinkling_poses(), frame=frame) is None:
         return None
     project.name = "ICT-FaceKit head (sample)"
     project.timeline = expression_timeline()

@@ -36,11 +36,14 @@ along the furrow. Steps:
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
+from PIL import Image
 
+from studio.core.files.cores import usable_cores
 from studio.core.files.errors import StudioError
 from studio.core.files.images import to_unit_float
 from studio.core.files.naming import unique_name
@@ -101,6 +104,7 @@ PLACED_SHARE = 0.3  # … and the pose compresses the skin by this share of its 
 WINDOW_RINGS = 3  # the pose wrinkles this many triangles around the window, its mask's edge
 FOLD_RINGS = 2  # a fold's vertices: this many triangles around those it lies on, not cut by
 # their edges where the fold is only a few triangles wide
+MAX_POSE_WORKERS = 4  # threads synthesising poses at once (memory grows with them)
 
 
 @dataclass
@@ -272,7 +276,7 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
     if placed is not None:
         strength, phase, c, s = _placed_furrows(amount, _fill_outside(placed[1], covered),
                                                 placed[0])
-        lines = mask_ops.resample(placed[0], size).ravel() > 1e-3
+        lines = _Upsampled(placed[0] > 0.0, size).index(placed[0], 1e-3)
         # a fold's window carries its depth along it, from the pose's compression: gated
         # again texel by texel, its edge would follow the compression's patchy border
         strength = strength * placed[0] if placed[3] else placed[0].astype(np.float32)
@@ -284,24 +288,80 @@ def furrow_field(strain: TriangleStrain, ids: Array, skin: Array, size: int,
         phase, straight = furrow_phase(strength, angle, 2.0 * np.pi * size / (work * spacing))
         # furrows only inside the regions the phase was laid out on, fading in from their edge
         strength = grown_depth(strength, FURROW_THRESHOLD) * straight
-    strength = mask_ops.resample(strength, size)
-    index = np.flatnonzero(strength > 1e-3)
-    c_up = mask_ops.resample((c + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
-    s_up = mask_ops.resample((s + 1.0) * 0.5, size).ravel()[index] * 2.0 - 1.0
+    # at the map's size only around the texels the pose wrinkles (``_Upsampled``)
+    up = _Upsampled(strength > 0.0, size)
+    index, amount_up = up.index(strength, 1e-3, values_too=True)
+    c_up = up.values((c + 1.0) * 0.5, index) * 2.0 - 1.0
+    s_up = up.values((s + 1.0) * 0.5, index) * 2.0 - 1.0
     degrees = np.degrees(np.mod(0.5 * np.arctan2(s_up, c_up), np.pi))
+    lo, hi = float(phase.min()), float(phase.max())  # as ``_resample_unbounded``
+    span = hi - lo or 1.0
+    phase_up = up.values((phase - lo) / span, index) * span + lo
     # what the pose reveals: where it compresses the skin by a tenth of its strong compression
     # (as its technique-1 mask), or where anatomy placed its lines
     reveals = amount >= max(REVEAL_SHARE * strong, WRINKLING_COMPRESSION)
     if moved is not None:
         reveals = reveals | (moved >= MOVED_SHARE)
-    reveals = mask_ops.resample(reveals, size).ravel() >= 0.5
-    lines = strength.ravel() > 1e-3 if lines is None else lines
-    return FurrowField(index, strength.ravel()[index], degrees.astype(np.float32),
-                       _resample_unbounded(phase, size).ravel()[index],
-                       np.flatnonzero(reveals & ~lines),
+    revealed = _Upsampled(reveals, size).index(reveals.astype(np.float32), 0.5, strict=False)
+    lines = index if lines is None else lines
+    return FurrowField(index, amount_up, degrees.astype(np.float32), phase_up,
+                       np.setdiff1d(revealed, lines, assume_unique=True),
                        *((1.0, SHARPNESS, False) if placed is None
                          else (PLACED_GAIN * placed[2],
                                PLACED_SHARPNESS if placed[3] else FOLD_SHARPNESS, True)))
+
+
+class _Upsampled:
+    """Work-size images brought to the map's size (``mask_ops.resample``'s bilinear filter)
+    over the box of map texels around ``within`` (work texels) only: a pose wrinkles a small
+    part of the face, and upsampling all of a 2048-texel map for it, five images a pose, took
+    most of the synthesis's time and a map's memory per image. The box is widened by the
+    filter's reach, so its texels are those of the whole image upsampled."""
+
+    def __init__(self, within: Array, size: int) -> None:
+        self.work, self.size = within.shape[0], size
+        rows, cols = np.nonzero(within)
+        scale = size / self.work
+        if rows.size == 0:
+            self.box = (0, 0, 0, 0)
+            return
+        self.box = (max(int(np.floor((cols.min() - 1) * scale)), 0),
+                    max(int(np.floor((rows.min() - 1) * scale)), 0),
+                    min(int(np.ceil((cols.max() + 2) * scale)), size),
+                    min(int(np.ceil((rows.max() + 2) * scale)), size))
+
+    def image(self, values: Array) -> Array:
+        """The box of ``values`` (a work-size image in [0, 1]) at the map's size."""
+        c0, r0, c1, r1 = self.box
+        if c1 <= c0 or r1 <= r0:
+            return np.zeros((0, 0), np.float32)
+        if self.work == self.size:
+            return np.asarray(values, np.float32)[r0:r1, c0:c1].copy()
+        k = self.work / self.size
+        image = Image.fromarray(np.ascontiguousarray(values, dtype=np.float32), mode="F")
+        box = image.resize((c1 - c0, r1 - r0), Image.Resampling.BILINEAR,
+                           box=(c0 * k, r0 * k, c1 * k, r1 * k))
+        return np.clip(np.asarray(box, dtype=np.float32), 0.0, 1.0)
+
+    def index(self, values: Array, above: float, values_too: bool = False,
+              strict: bool = True) -> Array | tuple[Array, Array]:
+        """Flat map indices (ascending) of the texels whose upsampled value is above
+        ``above`` (``strict`` False: at least), and with ``values_too`` their values."""
+        image = self.image(values)
+        local = np.flatnonzero(image > above if strict else image >= above)
+        index = self._flat(local, image.shape[1])
+        return (index, image.ravel()[local]) if values_too else index
+
+    def values(self, values: Array, index: Array) -> Array:
+        """The upsampled ``values`` (work-size, in [0, 1]) at flat map indices in the box."""
+        c0, r0 = self.box[:2]
+        rows, cols = np.divmod(index, self.size)
+        return self.image(values)[rows - r0, cols - c0]
+
+    def _flat(self, local: Array, width: int) -> Array:
+        c0, r0 = self.box[:2]
+        rows, cols = np.divmod(local, max(width, 1))
+        return ((rows + r0) * self.size + cols + c0).astype(np.int64)
 
 
 def _fill_outside(values: Array, covered: Array, passes: int = 4) -> Array:
@@ -508,6 +568,7 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
         bunched = np.zeros(size * size, np.float32)  # … and the skin most bunched there
         bare = [_bare_image(fields[i], size) for i in group] if groups is not None else []
         for k, i in enumerate(group):
+            index = fields[i].index  # each texel once: no ``ufunc.at`` needed
             furrows = fields[i].depth()
             # anatomy's lines give way to other poses' bare skin, but not to that of other
             # placed lines: those reveal all the skin they move around their small window (a
@@ -516,10 +577,10 @@ def furrow_depths(fields: Sequence[FurrowField], size: int,
             others = [image for j, image in enumerate(bare) if j != k and image is not None
                       and not (fields[i].placed and fields[group[j]].placed)]
             if others:
-                revealed = np.clip(np.sum(others, axis=0), 0.0, 1.0).ravel()[fields[i].index]
-                furrows = furrows * (1.0 - revealed)
-            np.maximum.at(depth, fields[i].index, furrows)
-            np.minimum.at(bunched, fields[i].index, furrows)
+                revealed = sum(image.at(index, size) for image in others)
+                furrows = furrows * (1.0 - np.clip(revealed, 0.0, 1.0))
+            depth[index] = np.maximum(depth[index], furrows)
+            bunched[index] = np.minimum(bunched[index], furrows)
         images.append((depth + bunched).reshape(size, size))
     return images if groups is not None else images[0]
 
@@ -543,22 +604,41 @@ def grouped_maps(fields: Sequence[FurrowField], controls: Sequence[FurrowControl
             for depth in depths]
 
 
-def _bare_image(field: FurrowField, size: int) -> Array | None:
-    """(size, size) in [0, 1]: the skin a pose reveals bare, its edge softened over a furrow
-    spacing or so (``BARE_SOFTNESS`` of the map) so that furrows giving way to it fade."""
+@dataclass
+class _BareImage:
+    """The skin a pose reveals bare, in [0, 1], over the box of the map it reaches only:
+    a whole map's image per pose made the memory grow with the map times the poses."""
+
+    image: Array  # (h, w) float32
+    row: int  # the box's top left texel in the map
+    col: int
+
+    def at(self, index: Array, size: int) -> Array:
+        """Its values at flat map indices, 0 outside its box."""
+        rows, cols = np.divmod(index, size)
+        rows, cols = rows - self.row, cols - self.col
+        h, w = self.image.shape
+        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+        out = np.zeros(len(index), np.float32)
+        out[inside] = self.image[rows[inside], cols[inside]]
+        return out
+
+
+def _bare_image(field: FurrowField, size: int) -> _BareImage | None:
+    """The skin a pose reveals bare, its edge softened over a furrow spacing or so
+    (``BARE_SOFTNESS`` of the map) so that furrows giving way to it fade."""
     if field.bare is None or field.bare.size == 0:
         return None
-    image = np.zeros((size, size), np.float32)
     rows, cols = np.divmod(field.bare, size)
-    image[rows, cols] = 1.0
     # blurred around the bare skin only, as far out as the blur reaches (three box passes of
     # its half-width): the same image, at a fraction of the cost of the whole map's
     # (the ICT head's 53 poses: 13.8 of a 33 s set-up)
     reach = 3 * max(round(BARE_SOFTNESS * size / 2.0), 0) + 1
     r0, r1 = max(int(rows.min()) - reach, 0), min(int(rows.max()) + reach + 1, size)
     c0, c1 = max(int(cols.min()) - reach, 0), min(int(cols.max()) + reach + 1, size)
-    image[r0:r1, c0:c1] = mask_ops.blur(image[r0:r1, c0:c1], BARE_SOFTNESS * size)
-    return image
+    image = np.zeros((r1 - r0, c1 - c0), np.float32)
+    image[rows - r0, cols - c0] = 1.0
+    return _BareImage(mask_ops.blur(image, BARE_SOFTNESS * size), r0, c0)
 
 
 # --- 4. the map ----------------------------------------------------------------------------------
@@ -614,8 +694,8 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
         face_xyz = [raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2)]
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
     vary, wiggle = _surface_variation(mesh, raster, skin, options)
-    fields = []
-    for i, target in enumerate(targets):
+
+    def one(i: int, target: Array) -> FurrowField:
         strain = uv_strain.of(target)
         motion = np.linalg.norm(np.asarray(target, np.float64) - mesh.rest, axis=1)
         if skin is not None:
@@ -635,10 +715,24 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
                              options.spacing * factor, placed, moved, keep, area)
         field.variation = vary.ravel()[field.index]
         field.phase = field.phase + (0.5 if field.placed else 1.0) * wiggle.ravel()[field.index]
-        fields.append(field)
-        if progress is not None and not progress(i + 1, total or len(targets)):
-            return None
+        return field
+
+    # the poses are independent: on all the cores (numpy and PIL let go of the interpreter
+    # while they work), reported and cancelled here, in the caller's thread, in pose order
+    fields = []
+    with ThreadPoolExecutor(pose_workers()) as pool:
+        for i, field in enumerate(pool.map(one, range(len(targets)), targets)):
+            fields.append(field)
+            if progress is not None and not progress(i + 1, total or len(targets)):
+                pool.shutdown(cancel_futures=True)  # the poses begun finish; no more begin
+                return None
     return fields
+
+
+def pose_workers() -> int:
+    """Threads for the poses' fields: the cores this process may use, at most
+    ``MAX_POSE_WORKERS`` (each holds a pose's work-size images and its Poisson grid)."""
+    return usable_cores(MAX_POSE_WORKERS)
 
 
 def _surface_variation(mesh: FaceMesh, raster: UvRaster, skin: Array | None,
@@ -918,14 +1012,15 @@ def default_size(textures: FaceTextures, least: int = 1024) -> int:
 
 
 def fill_placeholder(project: Project, options: SynthOptions | None = None,
-                     progress: Progress | None = None, poses: Sequence[str] | None = None
-                     ) -> dict[str, list[str]] | None:
+                     progress: Progress | None = None, poses: Sequence[str] | None = None,
+                     frame=None) -> dict[str, list[str]] | None:
     """Synthesise the first flat (placeholder) wrinkled map from all key poses, in place, so an
     imported face without one shows wrinkles. Poses whose furrows cross (a frown's vertical
     lines over a brow raise's horizontal ones) go to separate maps, added after it (up to the
     shader's four). Returns {map name: its poses}; empty if every map is authored or the face
     has no key poses; None if ``progress`` (called with done, total) returned False. Where
-    anatomy placed a pose's lines, ``placed_lines`` gives the set-up their vertices."""
+    anatomy placed a pose's lines, ``placed_lines`` gives the set-up their vertices.
+    ``frame``: the face's frame, if known (found otherwise)."""
     textures = project.textures
     name = next((n for n, image in textures.wrinkle_maps.items() if is_flat(image)), None)
     if name is None or not project.poses:
@@ -934,7 +1029,9 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
         options = face_options(project, _default_map_size(project))
     names = [p.name for p in project.poses] if poses is None else list(poses)
     controls = [project.furrows.of(n) for n in names]
-    fields = pose_fields(project, names, options, controls, progress)
+    places = None if frame is None else FacePlaces.of(frame, project.mesh.rest,
+                                                      project.skin_weights())
+    fields = pose_fields(project, names, options, controls, progress, places)
     if fields is None:
         return None
     room = MAX_WRINKLE_MAPS - len(textures.wrinkle_maps) + 1
