@@ -221,6 +221,12 @@ def blend_modes(project: Project) -> None:
 def studio_window(project: Project) -> None:
     """The studio as it opens on the sample, 1440 × 900, the timeline at the surprise's peak
     and the brow raise shown by technique 2 (run under a display, e.g. xvfb-run)."""
+    import os
+    import tempfile
+
+    # a first start's window (Getting started in front), not the layout this user last left
+    os.environ.setdefault("XDG_CONFIG_HOME", tempfile.mkdtemp(prefix="readme-"))
+    os.environ.setdefault("XDG_DATA_HOME", tempfile.mkdtemp(prefix="readme-"))
     from PySide6.QtWidgets import QApplication
 
     from studio.app import configure_opengl
