@@ -74,3 +74,39 @@ def test_a_rig_whose_only_pose_opens_the_jaw_is_right_side_up(up: str):
     np.testing.assert_allclose(frame.front, head.axes @ [0.0, 0.0, 1.0], atol=1e-9,
                                err_msg=frame.how)
     assert frame.how.startswith(f"up {'+Y' if up == 'y' else '+Z'} (from the motion of jawOpen)")
+
+
+def _fringe_camera() -> tuple[OrbitCamera, float]:
+    """A face box 2 units wide framed from its front (yaw 0, pitch 0, Y up, looking down −Z),
+    and the eye's distance that framing gives."""
+    camera = OrbitCamera(yaw=0.0, pitch=0.0)
+    camera.frame(np.array([-1.0, -1.0, -0.5]), np.array([1.0, 1.0, 0.5]))
+    return camera, camera.distance
+
+
+def test_the_eye_stands_clear_of_hair_reaching_past_it():
+    """A low-poly hair shell whose fringe reaches 1.5 units past where framing put the eye:
+    the eye backs off to just beyond the fringe (by 5 % of what it framed) and the near plane
+    lies before the fringe, so the first picture shows the hair from outside, not its inside.
+    Red without ``stand_clear_of``: the eye sat inside the fringe."""
+    camera, framed = _fringe_camera()
+    fringe_z = framed + 1.5
+    fringe = np.array([[x, 0.8, fringe_z] for x in (-0.9, 0.0, 0.9)])
+    radius = camera.radius
+    camera.stand_clear_of(np.vstack([fringe, [[0.0, 0.0, 0.5]]]))
+    assert camera.distance == pytest.approx(fringe_z + 0.05 * radius)
+    near, far = camera.clip_planes()
+    assert near < camera.distance - fringe_z
+    assert far > camera.distance + 0.5  # the face's back still inside
+
+
+def test_what_lies_beside_the_face_or_behind_it_does_not_move_the_eye():
+    """An arm raised to the side (outside the framed window) and hair behind the head leave
+    the framing as it was; so does a nose inside the face box."""
+    camera, framed = _fringe_camera()
+    half = framed * np.tan(np.radians(camera.fov_y) / 2.0)
+    beside = np.array([[half + 0.5, 0.0, framed + 3.0], [0.0, 0.0, -4.0], [0.0, 0.0, 0.5]])
+    radius = camera.radius
+    camera.stand_clear_of(beside)
+    assert camera.distance == framed
+    assert camera.radius == radius

@@ -73,6 +73,31 @@ class OrbitCamera:
         needed = np.maximum(np.abs(right), np.abs(up)) * margin / tan_half - toward
         self.distance = max(float(needed.max()), self.radius * 0.1)
 
+    def stand_clear_of(self, points: Array, margin: float = 0.05) -> None:
+        """Back the eye off, along its direction, until it stands outside everything in front of
+        the framed face, and widen the clipping planes to keep it whole. Framing fits the face's
+        box only; hair, a hat or a low-poly hair shell reaching further toward the camera than
+        the eye would otherwise surround it (or be cut by the near plane), and the first picture
+        would show the inside of the hair. Only points within the framed window (seen along the
+        view) can stand between the eye and the face; the rest of a body is left out."""
+        points = np.asarray(points, float)
+        if len(points) == 0:
+            return
+        view = look_at(self.direction(), np.zeros(3), self.up)
+        rel = points - self.target
+        # (the view's third row points from the target toward the eye)
+        right, up, toward = rel @ view[0, :3], rel @ view[1, :3], rel @ view[2, :3]
+        # the framed window at the target's depth: what framing fitted, seen from the eye
+        half = self.distance * math.tan(math.radians(self.fov_y) / 2.0)
+        before = (np.abs(right) <= half) & (np.abs(up) <= half) & (toward > 0)
+        if not before.any():
+            return
+        nearest = float(toward[before].max())
+        clearance = margin * max(self.radius, 1e-6)
+        self.distance = max(self.distance, nearest + clearance)
+        # near = distance - 2 radius must fall before the nearest point (clip_planes)
+        self.radius = max(self.radius, (nearest + clearance) / 2.0)
+
     def direction(self) -> Array:
         """Unit vector from the target toward the eye (yaw and pitch in the face's axes)."""
         y, p = math.radians(self.yaw), math.radians(self.pitch)
