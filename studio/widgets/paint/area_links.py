@@ -38,7 +38,7 @@ from studio.widgets.timeline.pose_panel import pose_label
 from studio.widgets.viewport.techniques import show_technique_1
 
 if TYPE_CHECKING:
-    from studio.widgets.paint.areas_panel import AreasPanel
+    from studio.widgets.paint.hosts import AreasHost
 
 
 def button(text: str, tip: str, slot) -> QPushButton:
@@ -53,7 +53,7 @@ class AreaLinks(QGroupBox):
     pose…" to link another by typing part of its name (MetaHuman's and Character Creator's
     "driven by" lists), not one field per pose of the rig."""
 
-    def __init__(self, panel: AreasPanel) -> None:
+    def __init__(self, panel: AreasHost) -> None:
         super().__init__("Selected area: wrinkled map, driven by")
         self.panel = panel
         self.doc, self.state = panel.doc, panel.state

@@ -26,7 +26,7 @@ from studio.widgets.paint import edits as mask_edits
 from studio.widgets.swatch import swatch
 
 if TYPE_CHECKING:
-    from studio.widgets.paint.areas_panel import AreasPanel
+    from studio.widgets.paint.hosts import AreasHost
 
 WARNING_STYLE = "color: #e0a030;"
 
@@ -34,7 +34,7 @@ WARNING_STYLE = "color: #e0a030;"
 class AreaRow(QWidget):
     """One layer: visibility, colour, name and its own activation slider."""
 
-    def __init__(self, panel: AreasPanel, index: int) -> None:
+    def __init__(self, panel: AreasHost, index: int) -> None:
         super().__init__()
         self.panel, self.index = panel, index
         area = panel.doc.project.influence.areas[index]

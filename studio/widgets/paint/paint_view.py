@@ -17,13 +17,13 @@ from PySide6.QtWidgets import QGraphicsView
 from studio.widgets.paint.edits import PaintSession
 
 if TYPE_CHECKING:
-    from studio.widgets.paint.uv_canvas import UvCanvas
+    from studio.widgets.paint.hosts import CanvasHost
 
 
 class PaintView(QGraphicsView):
     """The canvas itself: navigation, the brush cursor and painting."""
 
-    def __init__(self, canvas: UvCanvas) -> None:
+    def __init__(self, canvas: CanvasHost) -> None:
         super().__init__(canvas.scene)
         self.canvas = canvas
         self.setTransformationAnchor(QGraphicsView.ViewportAnchor.AnchorUnderMouse)

@@ -30,7 +30,7 @@ from studio.core.animation.timeline import INTERPOLATIONS
 from studio.widgets.timeline.track_model import ROW_PIXELS_RANGE, VALUE_SNAP
 
 if TYPE_CHECKING:
-    from studio.widgets.timeline.panel import TimelinePanel
+    from studio.widgets.timeline.host import TimelineHost
 
 CONTROLS_WIDTH = 250  # pixels: the transport and key controls left of the tracks
 INTERPOLATION_LABELS = {"linear": "Linear", "cosine": "Cosine (Parke)",
@@ -40,7 +40,7 @@ INTERPOLATION_LABELS = {"linear": "Linear", "cosine": "Cosine (Parke)",
 class TimelineControls(QScrollArea):
     """The controls' column; a short dock scrolls it rather than hiding the graphs."""
 
-    def __init__(self, panel: TimelinePanel) -> None:
+    def __init__(self, panel: TimelineHost) -> None:
         super().__init__()
         controls = QVBoxLayout()
         controls.setSpacing(2)

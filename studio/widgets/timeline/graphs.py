@@ -20,7 +20,7 @@ from studio.widgets.timeline.track_model import ROW_BAND, ROW_PAD, KeyMark, Trac
 from studio.widgets.timeline.view_boxes import ScrubViewBox, TrackViewBox
 
 if TYPE_CHECKING:
-    from studio.widgets.timeline.panel import TimelinePanel
+    from studio.widgets.timeline.host import TimelineHost
 
 NAMES_PIXELS = 130  # the names' column (the current row's name has a pointer before it)
 RULER_PIXELS = 36  # the time ruler's height: its frame numbers, and the playhead's
@@ -51,7 +51,7 @@ def pooled(pool: list, count: int, make: Callable[[], object]) -> list:
 class TimelineGraphs(pg.GraphicsLayoutWidget):
     """The ruler above the track rows above the curves; the legend beside rows and curves."""
 
-    def __init__(self, panel: TimelinePanel) -> None:
+    def __init__(self, panel: TimelineHost) -> None:
         super().__init__()
         self.setFocusPolicy(Qt.FocusPolicy.ClickFocus)
         self.setToolTip("Click a row: add a key (its height is the weight) · drag a key: "

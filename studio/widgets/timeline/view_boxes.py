@@ -13,14 +13,14 @@ import pyqtgraph as pg
 from PySide6.QtCore import Qt
 
 if TYPE_CHECKING:
-    from studio.widgets.timeline.panel import TimelinePanel
+    from studio.widgets.timeline.host import TimelineHost
 
 
 class TimeViewBox(pg.ViewBox):
     """A time view: the wheel zooms time, a middle or right drag pans it (never before the first
     frame: see ``TimelinePanel.frame_all_time``), Shift+wheel scrolls the track rows."""
 
-    def __init__(self, panel: TimelinePanel) -> None:
+    def __init__(self, panel: TimelineHost) -> None:
         super().__init__(enableMenu=False)
         self.panel = panel
         self.setMouseEnabled(x=True, y=False)
