@@ -8,8 +8,18 @@ as Blender's and Substance Painter's tool shelves do. (After Qt's own Flow Layou
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from PySide6.QtCore import QMargins, QPoint, QRect, QSize, Qt
-from PySide6.QtWidgets import QHBoxLayout, QLabel, QLayout, QLayoutItem, QSizePolicy, QWidget
+from PySide6.QtWidgets import (
+    QHBoxLayout,
+    QLabel,
+    QLayout,
+    QLayoutItem,
+    QPushButton,
+    QSizePolicy,
+    QWidget,
+)
 
 
 class FlowLayout(QLayout):
@@ -94,3 +104,12 @@ def labelled(text: str, widget: QWidget) -> QWidget:
     layout.addWidget(QLabel(text))
     layout.addWidget(widget)
     return holder
+
+
+def button(text: str, tip: str, slot: Callable[[], object]) -> QPushButton:
+    """A push button with its tooltip, calling ``slot`` when clicked: what the panels' wrapped
+    rows of buttons are made of."""
+    made = QPushButton(text)
+    made.setToolTip(tip)
+    made.clicked.connect(slot)
+    return made

@@ -18,12 +18,11 @@ from PySide6.QtWidgets import (
     QFormLayout,
     QGroupBox,
     QLabel,
-    QPushButton,
     QVBoxLayout,
 )
 
 from studio.core.setup.pose_map import map_on_link
-from studio.widgets.flow_layout import FlowLayout
+from studio.widgets.flow_layout import FlowLayout, button
 from studio.widgets.paint import edits as mask_edits
 from studio.widgets.paint.area_row import WARNING_STYLE
 from studio.widgets.paint.areas_model import (
@@ -39,13 +38,6 @@ from studio.widgets.viewport.techniques import show_technique_1
 
 if TYPE_CHECKING:
     from studio.widgets.paint.hosts import AreasHost
-
-
-def button(text: str, tip: str, slot) -> QPushButton:
-    b = QPushButton(text)
-    b.setToolTip(tip)
-    b.clicked.connect(slot)
-    return b
 
 
 class AreaLinks(QGroupBox):

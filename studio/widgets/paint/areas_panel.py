@@ -35,10 +35,10 @@ from studio.core.setup.pose_map import wrinkle_map_for_pose
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.flat_reveal import reveal_maps, t1_reveal
 from studio.widgets.document import Document
-from studio.widgets.flow_layout import flow, labelled
+from studio.widgets.flow_layout import button, flow, labelled
 from studio.widgets.layer_list_model import can_move, kept_selection, solo
 from studio.widgets.paint import edits as mask_edits
-from studio.widgets.paint.area_links import AreaLinks, button
+from studio.widgets.paint.area_links import AreaLinks
 from studio.widgets.paint.area_row import AreaRow
 from studio.widgets.paint.areas_model import flat_tooltip
 from studio.widgets.paint.link_editor import LinkEditor

@@ -29,7 +29,7 @@ from PySide6.QtWidgets import (
 
 from studio.core.mesh import selection as sel
 from studio.core.wrinkles.flat_reveal import reveal_maps, t2_reveal
-from studio.widgets.flow_layout import FlowLayout, flow
+from studio.widgets.flow_layout import FlowLayout, button, flow
 from studio.widgets.layer_list_model import solo
 from studio.widgets.slider_row import SliderRow
 from studio.widgets.swatch import swatch
@@ -113,11 +113,11 @@ class WdvPanel(QScrollArea):
         self.area_list.currentRowChanged.connect(self._row_changed)
         self.area_list.itemChanged.connect(self._item_changed)
         a_layout.addWidget(self.area_list)
-        self.add_button = self._button("Add", "Add an empty area", self._add)
-        self.delete_button = self._button("Delete", "Delete the current area", self._delete)
+        self.add_button = button("Add", "Add an empty area", self._add)
+        self.delete_button = button("Delete", "Delete the current area", self._delete)
         self.up_button = self._tool_button("▲", "Move the area up", lambda: self._move(-1))
         self.down_button = self._tool_button("▼", "Move the area down", lambda: self._move(1))
-        self.solo_button = self._button("Solo", "Show only this area's wrinkles (again: all)",
+        self.solo_button = button("Solo", "Show only this area's wrinkles (again: all)",
                                         self._solo)
         a_layout.addWidget(flow(self.add_button, self.delete_button, self.up_button,
                                 self.down_button, self.solo_button))
@@ -186,19 +186,19 @@ class WdvPanel(QScrollArea):
         self.threshold.setSuffix(" %")
         self.threshold.setToolTip("Suggest selects vertices the pose moves by more than this "
                                   "share of its largest motion")
-        self.suggest_button = self._button("Suggest", "Select where the area's pose moves the "
+        self.suggest_button = button("Suggest", "Select where the area's pose moves the "
                                            "skin (as a start)", self._suggest)
         suggest.addWidget(self.suggest_button)
         suggest.addWidget(QLabel("over"))
         suggest.addWidget(self.threshold)
         c_layout.addLayout(suggest)
         buttons = FlowLayout()
-        self.create_button = self._button("Create", "Set d = normalize(P_pose − P_neutral) for "
+        self.create_button = button("Create", "Set d = normalize(P_pose − P_neutral) for "
                                           "the selected vertices; zero elsewhere in this area",
                                           self._create)
         self.create_button.setDefault(True)
         self.create_button.setStyleSheet("font-weight: bold;")
-        self.clear_button = self._button("Clear", "Remove this area's vectors", self._clear)
+        self.clear_button = button("Clear", "Remove this area's vectors", self._clear)
         buttons.addWidget(self.create_button)
         buttons.addWidget(self.clear_button)
         c_layout.addLayout(buttons)
@@ -225,12 +225,6 @@ class WdvPanel(QScrollArea):
         self.status.setWordWrap(True)
         c_layout.addWidget(self.status)
         return create
-
-    def _button(self, text: str, tip: str, slot) -> QPushButton:
-        b = QPushButton(text)
-        b.setToolTip(tip)
-        b.clicked.connect(slot)
-        return b
 
     def _tool_button(self, text: str, tip: str, slot) -> QToolButton:
         b = QToolButton()

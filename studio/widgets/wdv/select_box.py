@@ -21,16 +21,9 @@ from PySide6.QtWidgets import (
 )
 
 from studio.core.mesh import selection as sel
-from studio.widgets.flow_layout import FlowLayout
+from studio.widgets.flow_layout import FlowLayout, button
 from studio.widgets.wdv import edits
 from studio.widgets.wdv.tools import WdvTools
-
-
-def button(text: str, tip: str, slot) -> QPushButton:
-    b = QPushButton(text)
-    b.setToolTip(tip)
-    b.clicked.connect(slot)
-    return b
 
 
 class SelectBox(QGroupBox):
