@@ -32,11 +32,12 @@ KEYWORD = {"o": "object", "g": "group", "usemtl": "material"}
 
 # Bytes str.splitlines or str.split treat as a line break or a space that the bulk reading
 # does not (it splits lines at LF only and words at space, tab and CR): such a file is read
-# line by line. NEL, LS and PS are Unicode line breaks, in UTF-8.
-_UNUSUAL = (b"\x0b", b"\x0c", b"\x1c", b"\x1d", b"\x1e", b"\x1f",
-            "\x85".encode(), "\u2028".encode(), "\u2029".encode())
-_SPACE = np.zeros(256, bool)
-_SPACE[[ord(c) for c in " \t\r\n"]] = True
+# line by line: VT, FF, FS, GS, RS, US (_ODD), and NEL, LS and PS, Unicode line breaks in UTF-8.
+_UNUSUAL = ("\x85".encode(), "\u2028".encode(), "\u2029".encode())
+_SOLID, _SPACE, _ODD = 0, 1, 2  # the class of each byte: a token's, a space, one of those
+_CLASS = np.zeros(256, np.uint8)
+_CLASS[[ord(c) for c in " \t\r\n"]] = _SPACE
+_CLASS[[0x0B, 0x0C, 0x1C, 0x1D, 0x1E, 0x1F]] = _ODD
 
 
 @dataclass
@@ -137,13 +138,17 @@ def _ints(values: list[int]) -> Array:
 def _records_in_bulk(raw: bytes) -> Records | None:
     """The records found with numpy over the bytes, or None where the file holds something
     read differently line by line (or wrong, which the line-by-line reading names)."""
-    if any(seq in raw for seq in _UNUSUAL):
-        return None
     buf = np.frombuffer(raw + b"\n", np.uint8)  # every line ends with LF
+    byte_class = _CLASS[buf]
+    if (byte_class == _ODD).any():
+        return None
     cr = np.flatnonzero(buf == 13)
     if (buf[cr + 1] != 10).any():  # a CR alone breaks a line too
         return None
-    solid = ~_SPACE[buf]
+    high = np.flatnonzero(buf >= 128)
+    if len(high) and any(seq in raw for seq in _UNUSUAL):
+        return None
+    solid = byte_class == _SOLID
     edge = np.diff(solid.view(np.int8), prepend=np.int8(0))
     starts = np.flatnonzero(edge == 1)  # of each token
     ends = np.flatnonzero(edge == -1)  # the space after each token (the last byte is LF)
@@ -156,7 +161,7 @@ def _records_in_bulk(raw: bytes) -> Records | None:
     key_len = ends[first] - key_at
     c0, c1 = buf[key_at], buf[key_at + 1]
     # a line holding a byte beyond ASCII is read as text: its spaces may be Unicode's
-    wide = np.isin(line, np.searchsorted(breaks, np.flatnonzero(buf >= 128)))
+    wide = np.isin(line, np.searchsorted(breaks, high))
     one = (key_len == 1) & ~wide
     is_v = one & (c0 == ord("v"))
     is_f = one & (c0 == ord("f"))
