@@ -47,7 +47,6 @@ Array = np.ndarray
 _MISSING = np.iinfo(np.int64).min  # a face corner without a texture index
 
 
-
 @dataclass(frozen=True)
 class ObjGroup:
     """A named part of an OBJ: an object, group or material, and how many faces carry it.
