@@ -24,7 +24,7 @@ from studio.core.files.errors import MeshError
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.meshio import (
     ObjGroup,
-    _read_text,
+    _read_obj,
     load_mesh,
     load_pose,
     obj_groups,
@@ -149,7 +149,7 @@ def test_a_file_over_the_size_budget_is_refused_while_reading(
     monkeypatch.setenv("WRINKLE_STUDIO_MAX_FILE_BYTES", "10")
     _refused(
         path,
-        lambda: _read_text(path),
+        lambda: _read_obj(path),
         "the mesh file is 32 bytes, more than the limit of 10 bytes "
         "(set WRINKLE_STUDIO_MAX_FILE_BYTES to raise it)",
     )
