@@ -101,16 +101,40 @@ def keep_backup(target: Path) -> None:
 def _write_archive(handle: Any, project: Project, document: bytes) -> None:
     stamp = time.localtime()[:6]
     members = list(_members(project, document))
-    # the images are compressed side by side (zlib lets go of the interpreter), written in order
-    with (zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as archive,
-          ThreadPoolExecutor(usable_cores(ENCODE_THREADS)) as pool):
-        encoded = pool.map(lambda member: member[1](member[2]), members)
-        for (name, _, _), data in zip(members, encoded, strict=True):
+    with zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as archive:
+        for (name, _, _), data in zip(members, _encoded(members), strict=True):
             info = zipfile.ZipInfo(name, date_time=stamp)
             info.compress_type = zipfile.ZIP_STORED if name.endswith(".png") else \
                 zipfile.ZIP_DEFLATED
             info.external_attr = 0o644 << 16
             archive.writestr(info, data)
+
+
+def _encoded(members: list[tuple[str, Callable[[Any], bytes], Any]]) -> Iterator[bytes]:
+    """Each member's bytes, in order. The images are compressed side by side on threads (zlib
+    lets go of the interpreter); once the interpreter is shutting down no pool may start a
+    thread, so a save that runs then — the sample kept in the cache by a thread that outlives
+    a studio closed at once, an autosave finishing its write — encodes one member after
+    another instead of losing the file."""
+    pool = ThreadPoolExecutor(usable_cores(ENCODE_THREADS))
+    try:
+        try:
+            futures = [pool.submit(_encode, member) for member in members]
+        except RuntimeError:  # "cannot schedule new futures after interpreter shutdown"
+            futures = None
+        if futures is None:
+            for member in members:
+                yield _encode(member)
+        else:
+            for future in futures:
+                yield future.result()
+    finally:
+        pool.shutdown(cancel_futures=True)
+
+
+def _encode(member: tuple[str, Callable[[Any], bytes], Any]) -> bytes:
+    _, encoder, value = member
+    return encoder(value)
 
 
 def _members(project: Project,
