@@ -538,7 +538,8 @@ def aim(camera: OrbitCamera, project, frame: str = "face",
     camera.basis = face.basis()
     if frame == "face":
         camera.frame_points(face.corners())
-        camera.stand_clear_of(project.mesh.rest)  # never inside the hair in front of it
+        if project is not None:  # never inside the hair in front of the face
+            camera.stand_clear_of(project.mesh.rest)
     else:
         camera.frame(*project.mesh.bounds())
     return face
