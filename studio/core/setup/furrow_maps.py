@@ -17,6 +17,7 @@ import numpy as np
 
 from studio.core.project.model import Project
 from studio.core.setup.anatomy import FacePlaces
+from studio.core.setup.skin_tone_maps import remake_cavity
 from studio.core.setup.wrinkle_synth import (
     FurrowField,
     SynthOptions,
@@ -89,6 +90,7 @@ class FurrowMaps:
                 project.furrows.maps[name] = record
                 changed.append(name)
             self._made_with[name] = (record.digest, key[1])
+        remake_cavity(project, changed)
         return changed
 
     def remake(self, project: Project, names: Sequence[str]) -> list[str]:

@@ -42,6 +42,11 @@ def check_image(image: Array, what: str, channels: int = 3) -> Array:
     return np.ascontiguousarray(image)
 
 
+def eight_bit(image: Array) -> Array:
+    """A checked image at 8 bits (a 16-bit one's high byte)."""
+    return (image >> 8).astype(np.uint8) if image.dtype == np.uint16 else image
+
+
 DEFAULT_WRINKLE_MAP = "wrinkles"
 MAX_WRINKLE_MAPS = 4  # the shader blends up to four wrinkled maps per pixel (one vec4 of weights)
 
@@ -67,6 +72,10 @@ class FaceTextures:
         self.diffuse = check_image(diffuse, "diffuse map")
         self.normal_neutral = check_image(normal_neutral, "neutral normal map")
         self.wrinkle_maps: dict[str, Array] = {}
+        # each wrinkled map's cavity (H, W) and colour (H, W, 3), 8-bit, where it has them
+        # (skin_tone.py); a map without them leaves the skin's tone as it is
+        self.cavity_maps: dict[str, Array] = {}
+        self.colour_maps: dict[str, Array] = {}
         for name, image in maps.items():
             self.set_wrinkle_map(name, image)
 
@@ -96,16 +105,38 @@ class FaceTextures:
             raise ImageError(f"a face can have at most {MAX_WRINKLE_MAPS} wrinkled normal maps")
         self.wrinkle_maps[name] = check_image(image, f"wrinkled normal map '{name}'")
 
+    def set_tone(self, name: str, cavity: Array | None = None,
+                 colour: Array | None = None) -> None:
+        """Give the named wrinkled map its cavity (greyscale) and/or colour (RGB) map."""
+        if name not in self.wrinkle_maps:
+            raise ImageError(f"there is no wrinkled normal map '{name}'")
+        if cavity is not None:
+            cavity = np.asarray(cavity)
+            cavity = cavity[..., 0] if cavity.ndim == 3 else cavity
+            self.cavity_maps[name] = eight_bit(check_image(
+                cavity[..., None], f"cavity map of '{name}'", 1))[..., 0]
+        if colour is not None:
+            self.colour_maps[name] = eight_bit(check_image(colour, f"colour map of '{name}'"))
+
+    @property
+    def has_tone(self) -> bool:
+        """Whether any wrinkled map has a cavity or colour map (else the skin's tone stays)."""
+        return bool(self.cavity_maps or self.colour_maps)
+
     def remove_wrinkle_map(self, name: str) -> Array:
         if len(self.wrinkle_maps) == 1:
             raise ImageError("the last wrinkled normal map cannot be removed")
+        self.cavity_maps.pop(name, None)
+        self.colour_maps.pop(name, None)
         return self.wrinkle_maps.pop(name)
 
     def rename_wrinkle_map(self, old: str, new: str) -> None:
         new = str(new).strip()
         if not new or (new in self.wrinkle_maps and new != old):
             raise ImageError(f"a wrinkled normal map needs a new, unused name (got '{new}')")
-        self.wrinkle_maps = {new if k == old else k: v for k, v in self.wrinkle_maps.items()}
+        for maps in ("wrinkle_maps", "cavity_maps", "colour_maps"):
+            setattr(self, maps, {new if k == old else k: v
+                                 for k, v in getattr(self, maps).items()})
 
 
 def resize_nearest(image: Array, height: int, width: int) -> Array:
