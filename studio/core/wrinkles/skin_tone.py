@@ -37,6 +37,7 @@ from studio.core.wrinkles.textures import FaceTextures, resize_nearest
 Array = np.ndarray
 
 CAVITY_DARKEST = 0.45  # light taken from the bottom of a map's deepest crease
+CAVITY_FLOOR = 0.03  # depths (of the map's deepest) under this are open skin
 CAVITY_SIZE = 1024  # the heights are integrated at most this size (the cost grows with area)
 TINT_ONE = 128  # the colour map's value of an unchanged albedo
 FLUSH = (1.0, 0.8, 0.78)  # linear tint of fully compressed skin: redder (blood pooled)
@@ -62,7 +63,8 @@ def cavity_map(neutral: Array, wrinkled: Array) -> Array:
     wrinkled map adds to the neutral one (its valleys; the skin bunched between furrows and
     the neutral map's own detail stay open)."""
     height = wrinkle_heights(neutral, [wrinkled], max_size=CAVITY_SIZE)[0]
-    depth = np.clip(-height, 0.0, 1.0)
+    # the integration's slow drift (a few hundredths) is no crease: open skin stays open
+    depth = np.clip((-height - CAVITY_FLOOR) / (1.0 - CAVITY_FLOOR), 0.0, 1.0)
     h, w = wrinkled.shape[:2]
     if depth.shape != (h, w):
         depth = np.clip(mask_ops.resample(depth, (w, h)), 0.0, 1.0)
