@@ -47,6 +47,16 @@ def eight_bit(image: Array) -> Array:
     return (image >> 8).astype(np.uint8) if image.dtype == np.uint16 else image
 
 
+def tone_image(kind: str, image: Array, name: str) -> Array:
+    """A wrinkled map's ``kind`` ("cavity": greyscale, "colour": RGB) map, checked, at 8 bits;
+    an RGB image given as a cavity map keeps its first channel."""
+    image = np.asarray(image)
+    if kind == "cavity":
+        image = image[..., 0] if image.ndim == 3 else image
+        return eight_bit(check_image(image[..., None], f"cavity map of '{name}'", 1))[..., 0]
+    return eight_bit(check_image(image, f"colour map of '{name}'"))
+
+
 DEFAULT_WRINKLE_MAP = "wrinkles"
 MAX_WRINKLE_MAPS = 4  # the shader blends up to four wrinkled maps per pixel (one vec4 of weights)
 
@@ -111,12 +121,19 @@ class FaceTextures:
         if name not in self.wrinkle_maps:
             raise ImageError(f"there is no wrinkled normal map '{name}'")
         if cavity is not None:
-            cavity = np.asarray(cavity)
-            cavity = cavity[..., 0] if cavity.ndim == 3 else cavity
-            self.cavity_maps[name] = eight_bit(check_image(
-                cavity[..., None], f"cavity map of '{name}'", 1))[..., 0]
+            self.cavity_maps[name] = tone_image("cavity", cavity, name)
         if colour is not None:
-            self.colour_maps[name] = eight_bit(check_image(colour, f"colour map of '{name}'"))
+            self.colour_maps[name] = tone_image("colour", colour, name)
+
+    def tone_for(self, maps: dict[str, Array]) -> tuple[dict[str, Array], dict[str, Array]]:
+        """The (cavity, colour) maps that go with ``maps``, a new set of wrinkled maps (the
+        Maps menu's add, rename, remove): a renamed map (same place, as many maps) keeps its
+        own, a removed map's go."""
+        old, new = list(self.wrinkle_maps), list(maps)
+        same = len(old) == len(new)
+        renamed = dict(zip(old, new, strict=True)) if same else {n: n for n in old if n in maps}
+        return ({renamed[k]: v for k, v in self.cavity_maps.items() if k in renamed},
+                {renamed[k]: v for k, v in self.colour_maps.items() if k in renamed})
 
     @property
     def has_tone(self) -> bool:
