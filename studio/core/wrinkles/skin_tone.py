@@ -24,11 +24,10 @@ wrinkled map with a zero weight changes nothing.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.wrinkles import mask_ops
 from studio.core.wrinkles.relief import wrinkle_heights
 from studio.core.wrinkles.skin_strain import WRINKLING_COMPRESSION, SkinStrain
@@ -38,13 +37,13 @@ Array = np.ndarray
 
 CAVITY_DARKEST = 0.45  # light taken from the bottom of a map's deepest crease
 CAVITY_FLOOR = 0.03  # depths (of the map's deepest) under this are open skin
-CAVITY_SIZE = 1024  # the heights are integrated at most this size (the cost grows with area)
+CAVITY_SIZE = 512  # the heights are integrated at most this size (the cost grows with area)
 TINT_ONE = 128  # the colour map's value of an unchanged albedo
 FLUSH = (1.0, 0.8, 0.78)  # linear tint of fully compressed skin: redder (blood pooled)
 BLANCH = (1.04, 1.1, 1.1)  # linear tint of fully stretched skin: paler, less red
 FULL_SHARE = 95  # percentile of a pose's compressed (stretched) skin at which the tint is full
 LEAST_FULL = 0.05  # … but never below 5 % strain, so a pose that barely moves stays pale
-COLOUR_SIZE = 512  # strain is smooth: the colour is worked out at most this size, then resized
+COLOUR_SIZE = 512  # strain is smooth: the colour map is at most this size
 COLOUR_SOFTNESS = 0.01  # blur radius, share of the map: no triangle edges in the colour
 
 
@@ -94,27 +93,30 @@ def _full(values: Array) -> float:
     return float(max(np.percentile(strained, FULL_SHARE), LEAST_FULL))
 
 
-def colour_map(mesh: FaceMesh, skin: Array | None, targets: Sequence[Array], height: int,
-               width: int) -> Array:
-    """(H, W, 3) uint8: the tint of the skin the poses (shapes of ``mesh``'s welded
-    vertices) strain most — each texel the pose compressing (or stretching) it most, relative
-    to that pose's own full strain. ``skin`` per welded vertex (None: all skin)."""
-    strain = SkinStrain(mesh, skin)
-    compression = np.zeros(mesh.n_welded, np.float32)
-    stretch = np.zeros(mesh.n_welded, np.float32)
-    for target in targets:
-        s = strain.of(np.asarray(target))
-        stretched = np.maximum(s.stretch, 0.0)
-        compression = np.maximum(compression, strain.per_vertex(
-            np.clip(s.compression / _full(s.compression), 0.0, 1.0)))
-        stretch = np.maximum(stretch, strain.per_vertex(
-            np.clip(stretched / _full(stretched), 0.0, 1.0)))
-    size = min(COLOUR_SIZE, max(height, width))
+def pose_strain(strain: SkinStrain, target: Array) -> tuple[Array, Array]:
+    """((W,), (W,)) how compressed and how stretched a pose (a shape of the face's welded
+    vertices) leaves the skin at each vertex, each in [0, 1] of that pose's own full strain."""
+    s = strain.of(np.asarray(target))
+    stretched = np.maximum(s.stretch, 0.0)
+    return (strain.per_vertex(np.clip(s.compression / _full(s.compression), 0.0, 1.0)),
+            strain.per_vertex(np.clip(stretched / _full(stretched), 0.0, 1.0)))
+
+
+def colour_map(strains: Sequence[tuple[Array, Array]], weld: Array,
+               image: Callable[[Array], Array]) -> Array:
+    """(S, S, 3) uint8: the tint of the skin the poses (``pose_strain`` of each) strain
+    most, each texel by the pose compressing (or stretching) it most. ``image`` draws
+    per-render-vertex values (``weld``: render vertex → welded) into an (S, S) UV image; the
+    strain is smooth, so S may be well under the normal map's size (the renderer and the
+    exports scale it)."""
+    welded = strains[0][0].shape if strains else (int(weld.max(initial=-1)) + 1,)
+    most = [np.zeros(welded, np.float32), np.zeros(welded, np.float32)]
+    for pose in strains:
+        most = [np.maximum(m, v) for m, v in zip(most, pose, strict=True)]
     images = []
-    for values in (compression, stretch):
-        image, _ = mask_ops.rasterise_uv(mesh.uvs, mesh.triangles, values[mesh.weld], size)
-        image = mask_ops.blur(image, COLOUR_SOFTNESS * size)
-        images.append(np.clip(mask_ops.resample(image, (width, height)), 0.0, 1.0))
+    for values in most:
+        drawn = image(values[weld])
+        images.append(np.clip(mask_ops.blur(drawn, COLOUR_SOFTNESS * drawn.shape[0]), 0.0, 1.0))
     return encode_tint(strain_tint(*images))
 
 
