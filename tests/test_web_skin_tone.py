@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from scripts.web_picture import changed
 from studio.cli import main
 from studio.core.project.writer import save_project
 from studio.core.sample.synthetic import make_test_face
 from studio.core.wrinkles.skin_tone import cavity_map
 from tests.test_web_player import open_page, overlap, pixels
-from scripts.web_picture import changed
 
 SIZE = 800
 POSE = "squeeze"
