@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 from itertools import pairwise
+from pathlib import Path
 
 from studio.core.formats.gltf.codec import VERTEX_DATA, image_names
 from studio.core.project.model import Project
@@ -25,10 +26,12 @@ PLACEHOLDER = 'SETUP = json.loads("{}")'
 SCRIPT = "blender_wrinkles.py"
 
 
-def blender_setup(project: Project, model: str, mask_files: list[str], map_files: list[str],
+def blender_setup(project: Project, model: str, mask_files: list[str], map_files: list[dict],
                   neutral_file: str) -> dict:
     """What the script needs of the face: the model and image files relative to the export
-    folder (used where the imported model lacks an image of the name)."""
+    folder (used where the imported model lacks an image of the name). ``map_files``: each
+    wrinkled map's ``image`` file and, where it has them, its ``cavity`` and ``colour``
+    files (the glTF holds neither: found by file)."""
     influence, textures = project.influence, project.textures
     map_images, mask_images = image_names(project)
     areas = []
@@ -43,9 +46,11 @@ def blender_setup(project: Project, model: str, mask_files: list[str], map_files
     return {"model": model,
             "poses": sorted({link["pose"] for a in areas for link in a["links"]}),
             "neutral": {"image": "normal_neutral", "file": neutral_file},
-            "wrinkle_maps": [{"name": name, "image": image, "file": file}
-                             for name, image, file in zip(textures.wrinkle_map_names,
-                                                          map_images, map_files, strict=True)],
+            "wrinkle_maps": [{"name": name, "image": image, "file": files["image"],
+                              **{kind: {"image": Path(files[kind]).stem, "file": files[kind]}
+                                 for kind in ("cavity", "colour") if kind in files}}
+                             for name, image, files in zip(textures.wrinkle_map_names,
+                                                           map_images, map_files, strict=True)],
             "areas": areas,
             # the parts never wrinkled: column 1 of the glTF's per-vertex data
             **({"not_face": {"attribute": VERTEX_DATA, "column": 1}}
