@@ -53,6 +53,9 @@ class SetToneCommand(QUndoCommand):
     def undo(self) -> None:
         self._apply(self.old)
 
+    def nbytes(self) -> int:
+        return sum(image.nbytes for image in (self.old, self.new) if image is not None)
+
 
 class ToneTools:
     """The cavity and colour entries of a wrinkled map's submenu; ``tools``: the Maps menu's
