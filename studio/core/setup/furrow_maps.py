@@ -47,7 +47,7 @@ class FurrowMaps:
     @staticmethod
     def _made_key(project: Project, name: str) -> tuple:
         record = project.furrows.maps[name]
-        return record.digest, tuple(project.furrows.of(p) for p in record.poses)
+        return record.digest, tuple(project.furrows.of(p).shape for p in record.poses)
 
     def pending(self, project: Project) -> dict[str, tuple]:
         """{map: what it is to be made with} for the synthesised maps whose poses' controls

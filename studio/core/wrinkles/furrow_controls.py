@@ -1,5 +1,6 @@
 """What an artist turns to shape synthesised furrows: depth, spacing and sharpness, for all poses
-and per pose, and the record of which wrinkled maps were synthesised from which poses.
+and per pose, how soon along a pose's weight its lines appear (its onset), and the record of
+which wrinkled maps were synthesised from which poses.
 
 The controls are factors on what the synthesis grows from each pose's strain
 (``studio.core.setup.wrinkle_synth``): 1 everywhere is exactly the look the blind review scored
@@ -9,6 +10,12 @@ layer's opacity by its folder's. A map is made again from its record (``Synthesi
 control of one of its poses changes, so the record keeps the size-independent options it was
 made with; ``digest`` tells a map still as synthesised from one the user replaced since (loaded
 from a file, painted elsewhere), which the controls must not overwrite.
+
+The onset is not a factor on the map but on the pose's weight as the wrinkles see it: from 0
+(today's behaviour, lines from the first movement) to ``MAX_ONSET``, the weight below which the
+pose shows no lines; above it the lines grow over the rest of the weight
+(``studio.core.wrinkles.response.onset_weight``), in every technique. A pose's onset on top of
+all poses' composes as two such remaps do, ``1 - (1 - a)(1 - b)``.
 """
 
 from __future__ import annotations
@@ -23,8 +30,13 @@ import numpy as np
 
 # (least, most) of each control: a furrow can vanish (depth 0) but never invert; spacing and
 # sharpness stay within what the profile and the phase can draw without aliasing
-RANGES = {"depth": (0.0, 4.0), "spacing": (0.25, 4.0), "sharpness": (0.25, 4.0)}
-LABELS = {"depth": "Depth", "spacing": "Spacing", "sharpness": "Sharpness"}
+# the onset stops short of 1: a pose fully on still shows a sliver of its lines
+MAX_ONSET = 0.95
+RANGES = {"depth": (0.0, 4.0), "spacing": (0.25, 4.0), "sharpness": (0.25, 4.0),
+          "onset": (0.0, MAX_ONSET)}
+LABELS = {"depth": "Depth", "spacing": "Spacing", "sharpness": "Sharpness", "onset": "Onset"}
+# the controls that shape the synthesised maps (the onset shapes when they show, not the maps)
+MAP_CONTROLS = ("depth", "spacing", "sharpness")
 
 
 def _factor(value: Any, name: str) -> float:
@@ -43,6 +55,7 @@ class FurrowControls:
     depth: float = 1.0  # × the furrows' depth (and so their walls' tilt, up to MAX_TILT)
     spacing: float = 1.0  # × the distance between neighbouring furrows
     sharpness: float = 1.0  # × the valley profile's exponent: narrower furrows, flatter skin
+    onset: float = 0.0  # the pose's weight below which its lines do not show
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -53,9 +66,17 @@ class FurrowControls:
         return self == DEFAULT
 
     def times(self, other: FurrowControls) -> FurrowControls:
-        """These factors applied on top of ``other``'s (a pose's on the "all poses" ones)."""
-        return FurrowControls(*(min(max(getattr(self, n) * getattr(other, n), RANGES[n][0]),
-                                    RANGES[n][1]) for n in RANGES))
+        """These factors applied on top of ``other``'s (a pose's on the "all poses" ones); the
+        onsets as one weight remap after the other."""
+        factors = {n: min(max(getattr(self, n) * getattr(other, n), RANGES[n][0]), RANGES[n][1])
+                   for n in MAP_CONTROLS}
+        onset = 1.0 - (1.0 - self.onset) * (1.0 - other.onset)
+        return FurrowControls(**factors, onset=min(onset, MAX_ONSET))
+
+    @property
+    def shape(self) -> FurrowControls:
+        """Only what shapes the maps (the onset at its default): what a map is made with."""
+        return replace(self, onset=0.0)
 
     def to_dict(self) -> dict[str, float]:
         return {name: getattr(self, name) for name in RANGES}
@@ -122,6 +143,10 @@ class FurrowSettings:
     def of(self, pose: str) -> FurrowControls:
         """The factors a pose's furrows are made with: its own on top of all poses'."""
         return self.poses.get(pose, DEFAULT).times(self.all)
+
+    def onsets(self, poses: Iterable[str]) -> np.ndarray:
+        """(P,) float64: each pose's combined onset, in the order given."""
+        return np.array([self.of(p).onset for p in poses], dtype=np.float64).reshape(-1)
 
     def maps_of(self, pose: str | None) -> list[str]:
         """The synthesised maps a change of ``pose``'s controls remakes (None: all poses)."""
