@@ -57,7 +57,7 @@ def test_a_pose_s_onset_on_top_of_all_poses_is_one_remap_after_the_other():
     assert project.furrows.of("frown").onset == 0.5
     seen = project.wrinkle_weights({"surprise": 0.875, "frown": 0.75})
     assert seen["surprise"] == pytest.approx(0.5) and seen["frown"] == pytest.approx(0.5)
-    with pytest.raises(ValueError, match="onset must be a number from 0 to 0.95"):
+    with pytest.raises(ValueError, match=r"onset must be a number from 0 to 0\.95"):
         FurrowControls(onset=1.0)
 
 
