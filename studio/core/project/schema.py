@@ -49,7 +49,9 @@ Layout (every name relative to the archive root)::
                                                             (version 4); a pose's own on top
                  "maps": {"map": {"poses", "spacing",       of all poses'; each synthesised
                                   "depth", "anatomy",       map's record, to make it again:
-                                  "digest"}}},              FurrowSettings.to_dict)
+                                  "digest",                 FurrowSettings.to_dict;
+                                  "over_neutral"}}},        over_neutral: version 4, absent
+                                                            = true)
      "view": {...}, "timeline": {...}}
 
 Why this shape: images are ordinary PNGs, so a mask can be opened in any image editor straight

@@ -110,16 +110,20 @@ class SynthesisedMap:
     depth: float  # texels, before the controls
     anatomy: bool = True  # anatomy placed the primary lines (``new --auto``'s maps)
     digest: str = ""  # ``map_digest`` of the map as last synthesised
+    over_neutral: bool = True  # laid over the neutral map's detail (the Synthesise dialog's
+    # choice; the set-up's maps always are)
 
     def to_dict(self) -> dict[str, Any]:
         return {"poses": list(self.poses), "spacing": self.spacing, "depth": self.depth,
-                "anatomy": self.anatomy, "digest": self.digest}
+                "anatomy": self.anatomy, "digest": self.digest,
+                "over_neutral": self.over_neutral}
 
     @classmethod
     def from_dict(cls, doc: Any) -> SynthesisedMap:
         if not isinstance(doc, dict):
             raise ValueError("must be a JSON object")
         poses, digest, anatomy = doc.get("poses"), doc.get("digest", ""), doc.get("anatomy", True)
+        over_neutral = doc.get("over_neutral", True)
         if not isinstance(poses, list) or not all(isinstance(p, str) for p in poses):
             raise ValueError("poses must be a list of pose names")
         for name in ("spacing", "depth"):
@@ -127,9 +131,11 @@ class SynthesisedMap:
             if isinstance(value, bool) or not isinstance(value, int | float) \
                     or not math.isfinite(value) or value <= 0:
                 raise ValueError(f"{name} must be a positive number")
-        if not isinstance(digest, str) or not isinstance(anatomy, bool):
-            raise ValueError("digest must be text and anatomy true or false")
-        return cls(tuple(poses), float(doc["spacing"]), float(doc["depth"]), anatomy, digest)
+        if not isinstance(digest, str) or not isinstance(anatomy, bool) \
+                or not isinstance(over_neutral, bool):
+            raise ValueError("digest must be text, anatomy and over_neutral true or false")
+        return cls(tuple(poses), float(doc["spacing"]), float(doc["depth"]), anatomy, digest,
+                   over_neutral)
 
 
 @dataclass(eq=False)
@@ -167,6 +173,10 @@ class FurrowSettings:
         if not controls.is_default:
             poses[pose] = controls
         return replace(self, poses=poses)
+
+    def with_map(self, name: str, record: SynthesisedMap) -> FurrowSettings:
+        """A copy with the named map's record added or replaced (a map just synthesised)."""
+        return replace(self, maps={**self.maps, name: record})
 
     def pruned(self, poses: Iterable[str], maps: Iterable[str]) -> FurrowSettings:
         """A copy without the controls of poses, and the records of maps, that are gone

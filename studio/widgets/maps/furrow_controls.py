@@ -236,7 +236,7 @@ def push_furrows(doc: Document, settings: FurrowSettings, text: str, merge_key) 
 
 
 def _same(a: FurrowSettings, b: FurrowSettings) -> bool:
-    return a.all == b.all and a.poses == b.poses
+    return a.all == b.all and a.poses == b.poses and a.maps == b.maps
 
 
 def _announce(ready, stop: list[bool], _job: Future) -> None:
