@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -173,6 +173,17 @@ class FurrowSettings:
         if not controls.is_default:
             poses[pose] = controls
         return replace(self, poses=poses)
+
+    def with_values(self, values: Mapping[str | None, Mapping[str, float]]) -> FurrowSettings:
+        """A copy with controls set by name, {pose (None: all poses): {control: value}}, the
+        others kept (the command line's flags); ValueError naming a bad one."""
+        out = self
+        for pose, changes in values.items():
+            current = out.controls(pose).to_dict()
+            out = out.with_controls(pose, _named(lambda d: FurrowControls(**d),
+                                                 {**current, **changes},
+                                                 pose or "all poses"))
+        return out
 
     def with_map(self, name: str, record: SynthesisedMap) -> FurrowSettings:
         """A copy with the named map's record added or replaced (a map just synthesised)."""
