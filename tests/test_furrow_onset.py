@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from studio.commands.export import web_look
+from studio.core.animation.poses import PoseBlender
 from studio.core.animation.timeline import sequence_all_poses
 from studio.core.formats.blender_material import link_term
 from studio.core.formats.gltf.codec import _Gltf, save_gltf
@@ -142,3 +143,24 @@ def test_the_gltf_animation_s_activations_bake_the_onsets(face, tmp_path):
         np.testing.assert_allclose(values[i], face.activations(weights), atol=1e-6)
     assert any(not np.allclose(values[i], face.influence.activations(
         face.timeline.weights_at(frames[i])), atol=1e-3) for i in range(len(frames)))
+
+
+def test_the_web_page_s_technique_2_measures_past_each_pose_s_onset(face, tmp_path):
+    """The page moves technique 2's rest by what the onsets hold back, as the studio's
+    ``WrinkleDrive`` does: the shader then measures only the motion past each onset."""
+    names = [p.name for p in face.poses]
+    with_onset(with_onset(face, None, 0.2), names[0], 0.5)
+    page = tmp_path / "index.html"
+    page.write_text(web_page(face, OrbitCamera(), web_look()), encoding="utf-8")
+    weights = np.array([[0.4] + [0.0] * (len(names) - 1), np.linspace(0.1, 0.9, len(names)),
+                        np.ones(len(names))])
+    on_page = page_activations(page, weights, "rest").reshape(len(weights), -1, 3)
+    blender = PoseBlender(face.mesh.rest, face.poses)
+    for row, got in zip(weights, on_page, strict=True):
+        mix = dict(zip(names, row.tolist(), strict=True))
+        positions = blender.blend(mix).copy()
+        moved = face.mesh.rest + positions - blender.blend(face.wrinkle_weights(mix))
+        scale = np.abs(positions - face.mesh.rest).max()
+        np.testing.assert_allclose(got, moved[face.mesh.weld], atol=2e-3 * scale + 1e-6)
+    resting = on_page[0] - face.mesh.rest[face.mesh.weld]
+    assert np.abs(resting).max() > 0.01 * scale  # at 0.4 the first pose is all held back

@@ -22,7 +22,9 @@ What the page computes per frame, and where the studio computes the same:
   own ``ResponseCurve.evaluate`` (linear in between: exact for linear links); the weight first
   through its pose's onset (carried per link, not baked into the samples, whose spacing would
   round the onset's corner: ``response.onset_weight``);
-* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders.
+* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders,
+  technique 2 measuring from a rest moved by what each pose's onset holds back
+  (``render/wrinkle_drive.py``; each pose's onset carried with its deltas).
 """
 
 from __future__ import annotations
@@ -132,7 +134,8 @@ def pose_deltas(project: Project, frame: str, blob: _Blob) -> list[dict]:
         blob.add(f"pose{k}.deltas", np.round(kinds / step[None, :, None]).astype(np.int16)
                  .reshape(len(moved), 9))
         poses.append({"name": pose.name, "vertices": len(moved),
-                      "step": [float(v) for v in step]})
+                      "step": [float(v) for v in step],
+                      "onset": project.furrows.of(pose.name).onset})
     return poses
 
 
