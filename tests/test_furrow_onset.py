@@ -1,7 +1,8 @@
 """A pose's onset (issue 45, point 6) without a GPU: the weight through the onset, technique 1's
 activations, the controls for all poses and one combined, the project file (saved, reopened,
 and a file from before onsets read as none), and the exports that carry activations — the web
-page's own script under Node.js, the Blender drivers, the glTF animation's activations."""
+page's own script under Node.js (its technique 2's rest too), the Blender drivers, the glTF
+animation's activations and the export folder's sheet."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from studio.commands.export import web_look
 from studio.core.animation.poses import PoseBlender
 from studio.core.animation.timeline import sequence_all_poses
 from studio.core.formats.blender_material import link_term
+from studio.core.formats.export import export_folder
 from studio.core.formats.gltf.codec import _Gltf, save_gltf
 from studio.core.formats.web_export import web_page
 from studio.core.mesh.camera import OrbitCamera
@@ -164,3 +166,15 @@ def test_the_web_page_s_technique_2_measures_past_each_pose_s_onset(face, tmp_pa
         np.testing.assert_allclose(got, moved[face.mesh.weld], atol=2e-3 * scale + 1e-6)
     resting = on_page[0] - face.mesh.rest[face.mesh.weld]
     assert np.abs(resting).max() > 0.01 * scale  # at 0.4 the first pose is all held back
+
+
+def test_the_export_folder_s_sheet_carries_the_onsets(face, tmp_path):
+    names = [p.name for p in face.poses]
+    export_folder(face, tmp_path / "plain")
+    plain = json.loads((tmp_path / "plain" / "wrinkles.json").read_text(encoding="utf-8"))
+    assert "pose_onsets" not in plain  # no onset: the sheet as it always was
+    with_onset(with_onset(face, None, 0.2), names[0], 0.5)
+    export_folder(face, tmp_path / "out")
+    sheet = json.loads((tmp_path / "out" / "wrinkles.json").read_text(encoding="utf-8"))
+    assert sheet["pose_onsets"] == {n: face.furrows.of(n).onset for n in names}
+    assert sheet["pose_onsets"][names[0]] == pytest.approx(0.6)
