@@ -106,3 +106,22 @@ def test_each_technique_changes_the_same_pixels_on_three_js_as_in_the_studio(sho
     if pose == "squeeze":
         other = changed(shots["studio", pose, OTHER[technique]], shots["studio", pose, "none"])
         assert overlap(three_js, other) < 0.6  # where the other technique would not be
+
+
+@pytest.mark.core
+def test_no_variant_shows_a_whole_wrinkled_map_as_the_skin_s_look(tmp_path):
+    """A viewer offering the file's variants shows the wrinkled maps and masks as pictures
+    (unlit), never the skin lit with a whole wrinkled map as its normal map (every wrinkle at
+    once, unmasked); every wrinkled map is still offered, so its image stays in the file."""
+    project = make_test_face(561, texture_size=64, mask_size=32)
+    save_gltf(project, tmp_path / "face.glb")
+    data = (tmp_path / "face.glb").read_bytes()
+    doc = json.loads(data[20:20 + int.from_bytes(data[12:16], "little")])
+    variants = doc["materials"][1:]
+    assert variants
+    for material in variants:
+        assert "normalTexture" not in material, material["name"]
+        assert "KHR_materials_unlit" in material["extensions"], material["name"]
+    shown = {doc["images"][doc["textures"][m["pbrMetallicRoughness"]["baseColorTexture"]
+                                           ["index"]]["source"]]["name"] for m in variants}
+    assert set(doc["extras"]["wrinklePlayer"]["wrinkle_maps"]) <= shown
