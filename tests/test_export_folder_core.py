@@ -121,11 +121,11 @@ def relative(folder: Path, written: list[Path]) -> list[str]:
 
 
 def test_every_file_written_is_listed_in_order(udim_export: tuple[Path, list[Path]]) -> None:
-    """The glb, each mask and its two tile copies, the packed masks (five areas: two images),
-    the wrinkled maps, the neutral map, the Blender script, the sheet and the shaders; nothing
-    else is there."""
+    """The glb with the three.js module and its example page, each mask and its two tile
+    copies, the packed masks (five areas: two images), the wrinkled maps, the neutral map, the
+    Blender script, the sheet and the shaders; nothing else is there."""
     folder, written = udim_export
-    expected = ["face.glb"]
+    expected = ["face.glb", "wrinkles.js", "example.html"]
     for i, name in enumerate(SAFE_NAMES):
         expected += [f"masks/{i:02d}_{name}{tile}.png" for tile in ("", ".1001", ".1002")]
     for k in (0, 1):

@@ -1,7 +1,10 @@
 """The three.js module ``wrinkles.js`` shipped beside every glTF export: its activations under
 Node.js are the studio's for random links, gains and curves, taken through its own per-frame
 path from ``morphTargetInfluences``; on three.js in headless Chromium, each technique changes
-the same pixels of the face as ``render`` does, at two poses and with a gain other than 1."""
+the same pixels of the face as ``render --blend normal`` does (three.js shades once, so the
+module blends normals), at two poses and with a gain other than 1, lit as the studio lights
+(tests/js/three_page.html); and on the glTF's own MeshStandardMaterial under three's light, in
+the same places."""
 
 from __future__ import annotations
 
@@ -73,9 +76,14 @@ def shots(tmp_path_factory) -> dict:
         project.influence.links[pose] = dict.fromkeys(links, GAIN)
     save_project(project, tmp / "face.wrinkle", backup=False)
     save_gltf(project, tmp / "face.glb")
-    query = {**studio_view(project, SIZE), "roughness": "0.45"}
+    query = studio_view(project)
     out: dict = {}
     with served(tmp) as url:
+        for technique in ("none", "t1", "t2"):  # the glTF's own PBR material and three's light
+            shot = tmp / f"standard_{technique}.png"
+            shoot(url, {**query, "technique": technique, "pose": POSES[0], "weight": "1",
+                        "material": "standard"}, shot, SIZE)
+            out["standard", POSES[0], technique] = pixels(shot)
         for pose in POSES:
             for technique in ("none", "t1", "t2"):
                 shot = tmp / f"three_{pose}_{technique}.png"
@@ -101,7 +109,7 @@ def test_each_technique_changes_the_same_pixels_on_three_js_as_in_the_studio(sho
     assert abs(face_share(shots["three", pose, "none"])
                - face_share(shots["studio", pose, "none"])) < 0.01  # the same camera
     assert studio.mean() > 0.003
-    assert overlap(three_js, studio) > 0.8
+    assert overlap(three_js, studio) >= 0.9
     assert (three_js ^ studio).mean() <= 0.005
     if pose == "squeeze":
         other = changed(shots["studio", pose, OTHER[technique]], shots["studio", pose, "none"])
@@ -125,3 +133,17 @@ def test_no_variant_shows_a_whole_wrinkled_map_as_the_skin_s_look(tmp_path):
     shown = {doc["images"][doc["textures"][m["pbrMetallicRoughness"]["baseColorTexture"]
                                            ["index"]]["source"]]["name"] for m in variants}
     assert set(doc["extras"]["wrinklePlayer"]["wrinkle_maps"]) <= shown
+
+
+@pytest.mark.parametrize("technique", ["t1", "t2"])
+def test_on_the_gltf_s_own_standard_material_the_wrinkles_show_in_the_same_places(
+        shots, technique):
+    """Physically based light is not the studio's: the changed pixels' edges move, their place
+    does not."""
+    pose = POSES[0]
+    standard = changed(shots["standard", pose, technique], shots["standard", pose, "none"])
+    studio = changed(shots["studio", pose, technique], shots["studio", pose, "none"])
+    other = changed(shots["studio", pose, OTHER[technique]], shots["studio", pose, "none"])
+    assert 0.7 < standard.mean() / studio.mean() < 1.4
+    assert overlap(standard, studio) >= 0.65
+    assert overlap(standard, other) < 0.6

@@ -82,7 +82,7 @@ def served(folder: Path) -> Iterator[str]:
         server.server_close()
 
 
-def studio_view(project: Project, size: int) -> dict[str, str]:
+def studio_view(project: Project) -> dict[str, str]:
     """The camera and light ``render --frame face --yaw 0`` draws with, as the page's query."""
     camera = OrbitCamera.from_dict(project.view.get("camera", {}))
     aim(camera, project, "face")
@@ -92,6 +92,7 @@ def studio_view(project: Project, size: int) -> dict[str, str]:
     return {"view": column_major(camera.view_matrix()),
             "proj": column_major(camera.projection_matrix(1.0)),
             "light": ",".join(map(str, look.light_dir)), "ambient": str(look.ambient),
+            "specular": str(look.specular), "shininess": str(look.shininess),
             "background": ",".join(map(str, look.background))}
 
 

@@ -16,8 +16,11 @@
 //   visibility of the vertex's motion (its morphed minus its rest position) inside the area's
 //   cone; the vectors ride in a float data texture read by vertex index (the face has more
 //   vertex attributes than WebGL2's 16).
-// Where the studio blends shaded colours, three.js shades once: the normals are blended (the
-// studio's "normal" blend), so the wrinkles show in the same places with a little less contrast.
+// The poses' changes of tangent (the file's TANGENT morph targets, which three.js does not morph)
+// are added in the vertex shader, so the normal maps turn with the skin as in the studio. Where
+// the studio blends shaded colours, three.js shades once: the normals are blended (the studio's
+// "normal" blend), so the wrinkles show in the same places with a little less contrast. Any lit
+// material with a normal map takes the patch (GLTFLoader makes a MeshStandardMaterial).
 import * as THREE from 'three';
 
 // {{ACTIVATIONS}}
@@ -107,6 +110,9 @@ function vertexTexture(arrays) {
 
 const VERTEX_HEAD = /* glsl */ `
 uniform highp sampler2D wrVertices;
+uniform highp sampler2D wrTangents;
+uniform int wrTangentTargets;
+uniform int wrVertexCount;
 uniform int wrTechnique;
 uniform float wrExpression;
 uniform bool wrScaleFree;
@@ -205,10 +211,58 @@ const FRAGMENT_BODY = /* glsl */ `
 #endif
 `;
 
+// three.js morphs the normals, not the tangents: each pose's change of tangent (the file's
+// TANGENT morph targets, the studio's own at each pose) added here by the same influences, and
+// the tangent made perpendicular to the posed normal again, as the web page does, so a pose's
+// normal maps turn with its skin as in the studio.
+const TANGENT_BODY = /* glsl */ `
+#include <morphnormal_vertex>
+#ifdef USE_TANGENT
+#if defined(USE_MORPHTARGETS) && defined(MORPHTARGETS_TEXTURE)
+  for (int k = 0; k < MORPHTARGETS_COUNT; ++k) {
+    float w = morphTargetInfluences[k];
+    if (w != 0.0 && k < wrTangentTargets) {
+      int i = k * wrVertexCount + gl_VertexID;
+      int width = textureSize(wrTangents, 0).x;
+      objectTangent += w * texelFetch(wrTangents, ivec2(i % width, i / width), 0).xyz;
+    }
+  }
+#endif
+  vec3 wrNormal = normalize(objectNormal);
+  vec3 wrTangent = objectTangent - dot(objectTangent, wrNormal) * wrNormal;
+  if (dot(wrTangent, wrTangent) > 1e-12) objectTangent = normalize(wrTangent);
+#endif
+`;
+
+// The face's TANGENT morph targets (one texel per vertex and target), null when it has none.
+async function tangentTargets(parser, mesh) {
+  const where = parser.associations.get(mesh);
+  const targets = where ? parser.json.meshes[where.meshes].primitives[where.primitives].targets
+    : null;
+  if (!targets || !targets.length || !targets.every((t) => 'TANGENT' in t)) return null;
+  const deltas = await Promise.all(targets.map((t) => parser.getDependency('accessor',
+    t.TANGENT)));
+  const count = deltas[0].count;
+  const rows = Math.max(Math.ceil((count * deltas.length) / WIDTH), 1);
+  const data = new Float32Array(WIDTH * rows * 4);
+  deltas.forEach((delta, k) => {
+    for (let v = 0; v < count; ++v) {
+      const at = 4 * (k * count + v);
+      data[at] = delta.getX(v);
+      data[at + 1] = delta.getY(v);
+      data[at + 2] = delta.getZ(v);
+    }
+  });
+  const texture = new THREE.DataTexture(data, WIDTH, rows, THREE.RGBAFormat, THREE.FloatType);
+  texture.needsUpdate = true;
+  return { texture, targets: deltas.length, count };
+}
+
 function patch(material, uniforms, maps) {
   material.onBeforeCompile = (shader) => {
     Object.assign(shader.uniforms, uniforms);
     shader.vertexShader = VERTEX_HEAD + shader.vertexShader
+      .replace('#include <morphnormal_vertex>', TANGENT_BODY)
       .replace('#include <morphtarget_vertex>', VERTEX_BODY);
     shader.fragmentShader = fragmentHead(maps) + shader.fragmentShader
       .replace('#include <normal_fragment_maps>', FRAGMENT_BODY);
@@ -251,8 +305,12 @@ export async function attachWrinkles(gltf, { technique = 't1' } = {}) {
   const activationTexels = new Float32Array(4 * areas);
   const activationTexture = new THREE.DataTexture(activationTexels, areas, 1, THREE.RGBAFormat,
     THREE.FloatType);
+  const tangents = await tangentTargets(parser, mesh);
   const uniforms = {
     wrTechnique: { value: TECHNIQUES[technique] },
+    wrTangents: { value: tangents ? tangents.texture : null },
+    wrTangentTargets: { value: tangents ? tangents.targets : 0 },
+    wrVertexCount: { value: tangents ? tangents.count : 0 },
     wrVertices: { value: vertexTexture(arrays) },
     wrExpression: { value: player.wdv.expression_factor },
     wrScaleFree: { value: player.wdv.scale_free },
