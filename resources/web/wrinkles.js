@@ -37,9 +37,14 @@ export function poseWeights(player, mesh) {
   return player.poses.map((name) => (name in names ? influences[names[name]] || 0 : 0));
 }
 
+// An array of the file's (a face without areas has no technique-1 arrays).
+function array(arrays, name) {
+  return (arrays[name] || { data: new Float32Array(0) }).data;
+}
+
 // Technique 1's activations of the face as the mesh is posed now.
 export function activationsOf(player, arrays, mesh) {
-  return wrinkleActivations(player.links, arrays['t1.base'].data, arrays['t1.shown'].data,
+  return wrinkleActivations(player.links, array(arrays, 't1.base'), array(arrays, 't1.shown'),
     poseWeights(player, mesh));
 }
 
@@ -321,7 +326,7 @@ export async function attachWrinkles(gltf, { technique = 't1' } = {}) {
   patch(mesh.material, uniforms, maps);
 
   let current = new Float32Array(player.areas.length);
-  const areaMaps = arrays['t1.maps'].data;
+  const areaMaps = array(arrays, 't1.maps');
   const update = () => {
     current = activationsOf(player, arrays, mesh);
     current.forEach((a, i) => {

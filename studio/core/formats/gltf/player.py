@@ -1,7 +1,9 @@
 """``extras.wrinklePlayer``: what the three.js module ``wrinkles.js`` plays the wrinkles from,
 in the web page's own format (core/formats/player_data.py) — the links with their sampled
 curves, and arrays named as the page names them, each in a buffer view of the file (``type``,
-``shape``, ``bufferView``, where the page's blob gives an ``offset``).
+``shape``, ``bufferView``, where the page's blob gives an ``offset``; an empty array is left
+out). The glTF validator lists these views as unused objects (an information): no accessor
+reads them, wrinkles.js does.
 
 Why beside ``extras.wrinkleStudio`` rather than read from it: the studio's extras hold the
 set-up as authored (curves by kind, technique-2 areas as per-area vertex attributes), and a
@@ -29,6 +31,8 @@ def player_extras(project: Project, view: Callable[[bytes], int], map_images: li
     arrays = {}
     for name, array in {**vertex_arrays(project), **t1_arrays(project)}.items():
         data = np.ascontiguousarray(array, np.float32)
+        if not data.size:
+            continue  # a face without areas: glTF has no empty buffer views
         arrays[name] = {"type": "f4", "shape": list(data.shape),
                         "bufferView": view(data.tobytes())}
     return {"poses": [p.name for p in project.poses],
