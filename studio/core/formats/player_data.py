@@ -24,7 +24,9 @@ CURVE_SAMPLES = 257
 
 
 def t1_links(project: Project) -> list[dict]:
-    """Each pose → area link as (pose index, area index, gain, curve samples on [0, 1])."""
+    """Each pose → area link as (pose index, area index, gain, curve samples on [0, 1], its
+    pose's onset: the weight goes through ``response.onset_weight`` before the curve, carried
+    per link rather than baked into the samples, whose spacing would round its corner)."""
     influence = project.influence
     areas = [a.name for a in influence.areas]
     poses = [p.name for p in project.poses]
@@ -39,7 +41,8 @@ def t1_links(project: Project) -> list[dict]:
             xs = np.linspace(0.0, 1.0, 2 if curve.kind == "linear" else CURVE_SAMPLES)
             links.append({"pose": poses.index(pose), "area": areas.index(area),
                           "gain": float(gain),
-                          "curve": [round(float(v), 6) for v in curve.evaluate(xs)]})
+                          "curve": [round(float(v), 6) for v in curve.evaluate(xs)],
+                          "onset": float(project.furrows.of(pose).onset)})
     return links
 
 

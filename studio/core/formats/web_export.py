@@ -18,9 +18,13 @@ What the page computes per frame, and where the studio computes the same:
   and renormalised — exact at a key pose, as glTF morph targets are; between poses the studio
   recomputes normals from the blended positions, which differs by a fraction of a degree;
 * technique 1's activations: each area's own value plus ``gain · curve(weight)`` of its links,
-  clamped (core/formats/player_data.py: the same data and the same JavaScript,
-  ``resources/web/activations.js``, as the three.js module shipped with glTF exports);
-* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders.
+  clamped, the weight first through its pose's onset (``response.onset_weight``; carried per
+  link, not baked into the curve's samples, whose spacing would round the onset's corner) —
+  core/formats/player_data.py: the same data and the same JavaScript
+  (``resources/web/activations.js``) as the three.js module shipped with glTF exports;
+* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders,
+  technique 2 measuring from a rest moved by what each pose's onset holds back
+  (``render/wrinkle_drive.py``; each pose's onset carried with its deltas).
 """
 
 from __future__ import annotations
@@ -128,7 +132,8 @@ def pose_deltas(project: Project, frame: str, blob: _Blob) -> list[dict]:
         blob.add(f"pose{k}.deltas", np.round(kinds / step[None, :, None]).astype(np.int16)
                  .reshape(len(moved), 9))
         poses.append({"name": pose.name, "vertices": len(moved),
-                      "step": [float(v) for v in step]})
+                      "step": [float(v) for v in step],
+                      "onset": project.furrows.of(pose.name).onset})
     return poses
 
 
