@@ -20,6 +20,7 @@ from studio.cli import main
 from studio.core.formats.gltf.codec import save_gltf
 from studio.core.project.writer import save_project
 from studio.core.sample.synthetic import make_test_face
+from studio.core.wrinkles.furrow_controls import FurrowControls
 from tests.test_web_player_js import node, random_links
 from tests.three_page import served, shoot, studio_view, three
 
@@ -47,11 +48,13 @@ def module_activations(folder: Path, weights: np.ndarray) -> np.ndarray:
     return np.asarray(json.loads(done.stdout))
 
 
-@pytest.mark.parametrize("seed", [5, 23])
-def test_the_module_gives_the_studio_s_activations_from_the_morph_influences(tmp_path, seed):
+@pytest.mark.parametrize(("seed", "onset"), [(5, 0.0), (23, 0.3)])
+def test_the_module_gives_the_studio_s_activations_from_the_morph_influences(tmp_path, seed,
+                                                                              onset):
     rng = np.random.default_rng(seed)
     project = make_test_face(561, texture_size=64, mask_size=32)
     random_links(project, rng)
+    project.furrows = project.furrows.with_controls(None, FurrowControls(onset=onset))
     save_gltf(project, tmp_path / "face.glb")
     assert (tmp_path / "wrinkles.js").is_file() and (tmp_path / "example.html").is_file()
     names = [p.name for p in project.poses]
@@ -61,7 +64,7 @@ def test_the_module_gives_the_studio_s_activations_from_the_morph_influences(tmp
     got = module_activations(tmp_path, weights)
     for row, values in zip(weights, got, strict=True):
         mix = dict(zip(names, row.tolist(), strict=True))
-        np.testing.assert_allclose(values, project.influence.activations(mix), atol=2e-3,
+        np.testing.assert_allclose(values, project.activations(mix), atol=2e-3,
                                    err_msg=str(mix))
     assert np.ptp(got) > 0.5
 
@@ -147,3 +150,21 @@ def test_on_the_gltf_s_own_standard_material_the_wrinkles_show_in_the_same_place
     assert 0.7 < standard.mean() / studio.mean() < 1.4
     assert overlap(standard, studio) >= 0.65
     assert overlap(standard, other) < 0.6
+
+
+def test_technique_2_on_three_js_waits_for_the_pose_s_onset(tmp_path):
+    """With an onset of 0.6, the squint at 0.5 shows no technique-2 wrinkle (its rest moves
+    with what the onset holds back, as the studio's WrinkleDrive), at 1 it does."""
+    project = make_test_face(2172)
+    project.furrows = project.furrows.with_controls(None, FurrowControls(onset=0.6))
+    save_gltf(project, tmp_path / "face.glb")
+    query = studio_view(project)
+    shot = {}
+    with served(tmp_path) as url:
+        for technique, weight in (("none", "0.5"), ("t2", "0.5"), ("none", "1"), ("t2", "1")):
+            path = tmp_path / f"{technique}_{weight}.png"
+            shoot(url, {**query, "technique": technique, "pose": POSES[0], "weight": weight},
+                  path, SIZE)
+            shot[technique, weight] = pixels(path)
+    assert changed(shot["t2", "0.5"], shot["none", "0.5"]).mean() == 0
+    assert changed(shot["t2", "1"], shot["none", "1"]).mean() > 0.003

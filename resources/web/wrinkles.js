@@ -42,6 +42,20 @@ function array(arrays, name) {
   return (arrays[name] || { data: new Float32Array(0) }).data;
 }
 
+// Per morph target, the share of its weight its pose's onset holds back from technique 2:
+// w - onset_weight(w) (core/wrinkles/response.py), 0 without an onset.
+export function heldBack(player, mesh) {
+  const names = mesh.morphTargetDictionary || {};
+  const held = new Float32Array((mesh.morphTargetInfluences || []).length);
+  const weights = poseWeights(player, mesh);
+  player.poses.forEach((name, p) => {
+    const onset = (player.onsets || [])[p] || 0;
+    const w = weights[p];
+    if (name in names && onset > 0) held[names[name]] = w - Math.max((w - onset) / (1 - onset), 0);
+  });
+  return held;
+}
+
 // Technique 1's activations of the face as the mesh is posed now.
 export function activationsOf(player, arrays, mesh) {
   return wrinkleActivations(player.links, array(arrays, 't1.base'), array(arrays, 't1.shown'),
@@ -121,6 +135,9 @@ uniform int wrVertexCount;
 uniform int wrTechnique;
 uniform float wrExpression;
 uniform bool wrScaleFree;
+#if defined(USE_MORPHTARGETS) && defined(MORPHTARGETS_TEXTURE)
+uniform float wrHeld[MORPHTARGETS_COUNT]; // per morph target: what its pose's onset holds back
+#endif
 varying vec4 vWrWeights;
 varying float vWrSkin;
 vec4 wrTexel(int i) {
@@ -148,10 +165,18 @@ vec4 wrVisibility(vec3 delta, int first) {
 }
 `;
 
+// Technique 2 measures the motion from a rest moved by what each pose's onset holds back of
+// it (the studio's render/wrinkle_drive.py), so no wrinkle shows before the onset.
 const VERTEX_BODY = /* glsl */ `
 #include <morphtarget_vertex>
+vec3 wrRest = position;
+#if defined(USE_MORPHTARGETS) && defined(MORPHTARGETS_TEXTURE)
+for (int k = 0; k < MORPHTARGETS_COUNT; ++k) {
+  if (wrHeld[k] != 0.0) wrRest += wrHeld[k] * getMorph(gl_VertexID, k, 0).xyz;
+}
+#endif
 vWrSkin = wrTexel(gl_VertexID * ${TEXELS} + 6).x;
-vWrWeights = wrTechnique == 2 ? wrVisibility(transformed - position, gl_VertexID * ${TEXELS})
+vWrWeights = wrTechnique == 2 ? wrVisibility(transformed - wrRest, gl_VertexID * ${TEXELS})
                               : vec4(0.0);
 `;
 
@@ -316,6 +341,7 @@ export async function attachWrinkles(gltf, { technique = 't1' } = {}) {
     wrTangents: { value: tangents ? tangents.texture : null },
     wrTangentTargets: { value: tangents ? tangents.targets : 0 },
     wrVertexCount: { value: tangents ? tangents.count : 0 },
+    wrHeld: { value: heldBack(player, mesh) },
     wrVertices: { value: vertexTexture(arrays) },
     wrExpression: { value: player.wdv.expression_factor },
     wrScaleFree: { value: player.wdv.scale_free },
@@ -334,6 +360,7 @@ export async function attachWrinkles(gltf, { technique = 't1' } = {}) {
       activationTexels[4 * i + 1] = areaMaps[i];
     });
     activationTexture.needsUpdate = true;
+    uniforms.wrHeld.value = heldBack(player, mesh);
   };
   const before = mesh.onBeforeRender;
   mesh.onBeforeRender = function (...args) {

@@ -36,6 +36,7 @@ def player_extras(project: Project, view: Callable[[bytes], int], map_images: li
         arrays[name] = {"type": "f4", "shape": list(data.shape),
                         "bufferView": view(data.tobytes())}
     return {"poses": [p.name for p in project.poses],
+            "onsets": [float(v) for v in project.furrows.onsets(p.name for p in project.poses)],
             "areas": [a.name for a in project.influence.areas],
             "links": t1_links(project),
             "wrinkle_maps": map_images,
