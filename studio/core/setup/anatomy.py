@@ -354,11 +354,12 @@ MARIONETTE = ((0.39, -0.56), (0.47, -0.86))  # … and a marionette line, down f
 FOLD_REACH = 0.12  # the fold follows the pose's strongest compression this far either side …
 FOLD_BINS = 10  # … found over this many stretches along it …
 FOLD_POWER = 3.0  # … weighting the compression by this power (its strongest, not its spread)
-FOLD_WIDTH = (0.3, 0.55)  # one valley this wide (face x) inside and outside its bottom: a
+FOLD_WIDTH = (0.25, 0.3)  # one valley this wide (face x) inside and outside its bottom: a
 # single broad fold, steeper toward the mouth and the cheek rolling over it, no second one beside
 # it (0.14 and 0.4, three times as deep, drew a trench with hard walls)
 FLAT_BEYOND = 0.02  # past its rims the phase rises this much as steeply: the skin stays flat
-FOLD_ENDS = (0.1, 0.2)  # fading in over this share of its length, out over this share
+FOLD_ENDS = (0.1, 0.4)  # fading in over this share of its length, out over this share
+FOLD_TIP = 0.25  # … narrowing to this share of its width where it has faded
 FOLD_FACING = -1.0  # on skin in front of this (face z): the face, not the ear nor the scalp
 FOLD_GAIN = 1.2  # a nasolabial fold, a little deeper than a frown's lines and broader …
 MARIONETTE_GAIN = 0.4  # … a marionette line, shallower and shorter
@@ -546,9 +547,12 @@ def fold(x: Array, y: Array, z: Array, midline: float, sides: tuple[float, ...],
     depth = np.where(left, np.interp(u, centres, path.depths[1]),
                      np.interp(u, centres, path.depths[0]))
     d = v - offset
-    across = d / np.where(d < 0.0, FOLD_WIDTH[0], FOLD_WIDTH[1])  # ±½ at the rims
-    window = (depth * smoothstep(-0.02, FOLD_ENDS[0], u)
-              * smoothstep(1.0, 1.0 - FOLD_ENDS[1], u) * smoothstep(1.0, 0.6, np.abs(across)))
+    ends = smoothstep(-0.02, FOLD_ENDS[0], u) * smoothstep(1.0, 1.0 - FOLD_ENDS[1], u)
+    # narrowing as it fades: a crease ends in a point, not on a cut straight across it (a
+    # valley wider than its fade is long ended in a box with a step at its foot)
+    narrow = FOLD_TIP + (1.0 - FOLD_TIP) * np.sqrt(ends)
+    across = d / (np.where(d < 0.0, FOLD_WIDTH[0], FOLD_WIDTH[1]) * narrow)  # ±½ at the rims
+    window = depth * ends * smoothstep(1.0, 0.6, np.abs(across))
     phase = _one_valley(across)
     if bunch:
         under, lid_phase, near = lower_lid_lines(
