@@ -105,6 +105,8 @@ FAN_ANGLES = (-68.0, 50.0)  # degrees from straight outward (up positive): the f
 FAN_EDGE = 10.0  # … fading over this much …
 FAN_SPACING = 25.0  # … a line every this many degrees, …
 FAN_FIRST = -60.0  # … the lowest here, …
+FAN_HUB_BACK = 0.12  # … radiating from this far behind the corner (toward the eye's middle) …
+FAN_HUB_SPACING = 15.0  # … a line every this many degrees around that point
 GLABELLA_GAIN = 1.3  # the glabellar lines as deep as PLACED_GAIN (1.8 saturated their walls:
 # slots with square ends, however they tapered) …
 FAN_GAIN = 0.6  # … crow's feet shallower (1.5 drew claws): few, fine lines
@@ -336,7 +338,10 @@ def crows_feet(x: Array, y: Array, z: Array, midline: float,
               * smoothstep(low - FAN_EDGE, low + FAN_EDGE, angle)
               * smoothstep(high + FAN_EDGE, high - FAN_EDGE, angle)
               * np.isin(side, sides))
-    phase = 2.0 * np.pi * (angle - FAN_FIRST) / FAN_SPACING
+    # the lines lie across the orbicularis' ring, radiating from behind the corner (toward
+    # the eye's middle), not from the corner itself: they start spread along it, no hub
+    hub = np.degrees(np.arctan2(dy, dx + FAN_HUB_BACK))
+    phase = 2.0 * np.pi * (hub - FAN_FIRST) / FAN_HUB_SPACING
     lids, lid_phase, near = lower_lid_lines(side * (x - midline), y, LID_ANGLES, LID_GAIN)
     lids = lids * np.isin(side, sides)
     phase = np.where(near & ~(window > 0.0), lid_phase, phase)

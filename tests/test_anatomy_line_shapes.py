@@ -1,10 +1,17 @@
-"""A fold's ends (``studio.core.setup.anatomy.fold``): a nasolabial or marionette crease tapers
-to a point, narrowing as it fades, instead of ending on a cut straight across it.
+"""The shape of the lines anatomy places (``studio.core.setup.anatomy``).
+
+A fold's ends (``fold``): a nasolabial or marionette crease tapers to a point, narrowing as it
+fades, instead of ending on a cut straight across it.
 
 Before, the fold's valley kept its full width (0.85 face x across, as wide as a marionette line
 is long) right to where its depth had faded: its end was a box, whose edge showed under a
 raking light as a hard horizontal step with a bright tick at its foot (docs/look.md, round 2:
-"a box end with a hard horizontal step")."""
+"a box end with a hard horizontal step").
+
+Crow's feet (``crows_feet``) lie across the orbicularis' ring: they radiate from behind the eye's
+outer corner, so near the corner they are spread out, not meeting at one point. Before, every
+line radiated from the corner itself: "a starburst whose rays meet at one point" (round 1 and 2).
+"""
 
 from __future__ import annotations
 
@@ -12,7 +19,7 @@ import numpy as np
 import pytest
 
 from studio.core.setup import anatomy
-from studio.core.setup.anatomy import FOLD_BINS, FoldPath
+from studio.core.setup.anatomy import FAN_END, FAN_START, FOLD_BINS, OUTER_EYE, FoldPath
 
 pytestmark = pytest.mark.core
 
@@ -53,3 +60,22 @@ def test_a_fold_narrows_to_a_point_where_it_fades(line):
     assert depths[0] == pytest.approx(1.0, abs=1e-3)
     assert all(a >= b for a, b in zip(depths, depths[1:], strict=False))
     assert depths[-1] < 1e-6 and depths[-2] < 0.01
+
+
+def fan_spacing(radius: float) -> float:
+    """The crow's feet's mean spacing (face x) along an arc ``radius`` from the eye's outer
+    corner, over the fan's middle (where every line is drawn): its length over the lines."""
+    angles = np.radians(np.linspace(-40.0, 30.0, 400))
+    midline = -0.03
+    x = midline + OUTER_EYE[0] + radius * np.cos(angles)
+    y = OUTER_EYE[1] + radius * np.sin(angles)
+    window, phase = anatomy.crows_feet(x, y, np.zeros_like(x), midline, sides=(1.0,))
+    assert (window > 0.5).all()
+    lines = abs(float(phase[-1] - phase[0])) / (2.0 * np.pi)
+    return radius * float(angles[-1] - angles[0]) / lines
+
+
+def test_crows_feet_do_not_meet_at_one_point():
+    near, far = FAN_START + 0.08, FAN_END - 0.1
+    # from one point, the spacing grows as the distance from it: near / far of it
+    assert fan_spacing(near) > 1.25 * (near / far) * fan_spacing(far)
