@@ -82,7 +82,8 @@ GROW_SOFT = 0.25  # depth grows as √(excess compression), eased in over this s
 VARY_DEPTH = 0.6  # furrows deepen and fade along their length by this much of their depth …
 VARY_SPACINGS = 2.5  # … over about this many spacings (noise on the surface): no two alike
 WIGGLE = 1.6  # radians of phase a furrow wanders by, over about …
-WIGGLE_SPACINGS = 4.0  # … this many spacings: lines neither ruled nor evenly spaced
+WIGGLE_SPACINGS = 4.0  # … this many spacings: lines neither ruled nor evenly spaced …
+PLACED_WIGGLE = 0.35  # … and anatomy's lines (a fold's course) by this share of it
 FURROWS_EACH_SIDE = 4.0  # of the deepest furrow, before the others fade to a third
 FURROWS_ACROSS = 4.0  # a region at least this many furrows across, …
 MAX_FINER = 2.0  # … spacing them up to this much closer than the face's spacing
@@ -714,7 +715,8 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
                              options.spacing * factor, placed, moved, keep, area)
         field.variation = vary.ravel()[field.index]
-        field.phase = field.phase + (0.5 if field.placed else 1.0) * wiggle.ravel()[field.index]
+        field.phase = field.phase + (PLACED_WIGGLE if field.placed else 1.0) * wiggle.ravel()[
+            field.index]
         return field
 
     # the poses are independent: on all the cores (numpy and PIL let go of the interpreter
