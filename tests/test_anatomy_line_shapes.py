@@ -8,6 +8,9 @@ is long) right to where its depth had faded: its end was a box, whose edge showe
 raking light as a hard horizontal step with a bright tick at its foot (docs/look.md, round 2:
 "a box end with a hard horizontal step").
 
+A frown's glabellar lines (``glabella``) narrow toward their top as they fade, as a fold does
+(before, each kept one width from bottom to top: "browDown line width too uniform", round 2).
+
 Crow's feet (``crows_feet``) lie across the orbicularis' ring: they radiate from behind the eye's
 outer corner, so near the corner they are spread out, not meeting at one point. Before, every
 line radiated from the corner itself: "a starburst whose rays meet at one point" (round 1 and 2).
@@ -79,3 +82,19 @@ def test_crows_feet_do_not_meet_at_one_point():
     near, far = FAN_START + 0.08, FAN_END - 0.1
     # from one point, the spacing grows as the distance from it: near / far of it
     assert fan_spacing(near) > 1.25 * (near / far) * fan_spacing(far)
+
+
+def glabellar_width(y: float) -> float:
+    """How wide (face x) the left glabellar line's valley is at height ``y`` (face y)."""
+    midline = 0.04
+    x = midline + np.linspace(0.0, 1.5 * anatomy.INNER_BROW, 600)
+    window, phase = anatomy.glabella(x, np.full_like(x, y), np.zeros_like(x), midline)
+    valley = (np.abs(phase) < np.pi) & (window > 0.0)
+    return float(valley.sum() * (x[1] - x[0]))
+
+
+def test_glabellar_lines_narrow_toward_their_top():
+    start = anatomy.BOTTOM + anatomy.NOSE_ROOT
+    middle = glabellar_width(start + 0.15)
+    assert middle > 0.0
+    assert glabellar_width(anatomy.GLABELLA_TOP - 0.1) < 0.75 * middle

@@ -79,6 +79,7 @@ GLABELLA_FADE = 0.08  # … fading in over this much at their bottom …
 GLABELLA_TAPER = 0.6  # … and tapering out over this share of their length below their top:
 # deepest low, where the corrugators pull the brows together, shallow as they rise …
 GLABELLA_DROP = 0.1  # … which lies this much lower (face y) per inner brows' half gap out
+GLABELLA_TIP = 0.4  # the lines narrowing to this share of their width where they fade
 FACE_TOP = 0.95  # furrows end at the top of the face box (the skin the poses deform) …
 TOP_FADE = 0.1  # … fading out over this much below it (shares of its half height)
 FACING = -0.62  # glabellar lines lie on skin facing forward (face z): the face, not the scalp
@@ -296,11 +297,13 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
     facing = smoothstep(FACING - 0.08, FACING + 0.08, z)
     top = min(max(top, start + GLABELLA_SHORTEST), GLABELLA_TOP)
     end = top - GLABELLA_DROP * across
-    vertical = (smoothstep(SIDE_END, SIDE_FULL, across)
-                * smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
-                * smoothstep(end, end - GLABELLA_TAPER * (top - start), y))
+    along = (smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
+             * smoothstep(end, end - GLABELLA_TAPER * (top - start), y))
+    vertical = smoothstep(SIDE_END, SIDE_FULL, across) * along
     rise = np.clip((y - start) / max(top - start, 1e-6), 0.0, 1.0)
-    width = LINE_WIDTH * (ONE_SIDED_WIDTH if len(sides) == 1 else 1.0)
+    # each line narrowing as it fades toward its ends, as a fold does: a spindle, not a slot
+    width = (LINE_WIDTH * (ONE_SIDED_WIDTH if len(sides) == 1 else 1.0)
+             * (GLABELLA_TIP + (1.0 - GLABELLA_TIP) * np.sqrt(along)))
     phase = _one_valley((across - LINE_OFFSET * (1.0 + LINE_SPLAY * rise)) / width)
     phase = phase + LINE_NARROW * np.sin(phase)
     if nose:
