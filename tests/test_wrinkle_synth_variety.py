@@ -3,7 +3,7 @@ line to line and along each line (noise on the surface lets their phase wander).
 
 Before, a forehead squeezed evenly showed lines almost evenly spaced (the gaps between
 neighbouring lines varied by 13 % — "concentric arcs, evenly spaced, like ripple rings" in
-the review, docs/look.md); now by over a fifth."""
+the review, docs/look.md); now by 19 %."""
 
 from __future__ import annotations
 
