@@ -31,9 +31,12 @@ def node() -> str:
     return found
 
 
-def page_activations(page: Path, weights: np.ndarray) -> np.ndarray:
-    """What the page's ``Face.activations`` gives for each row of pose weights."""
-    done = subprocess.run([node(), str(HARNESS), str(page)], input=json.dumps(weights.tolist()),
+def page_activations(page: Path, weights: np.ndarray, wanted: str = "activations"
+                     ) -> np.ndarray:
+    """What the page's ``Face.activations`` gives for each row of pose weights (``wanted``
+    "rest": the rest technique 2 measures from, after the page's ``Face.deform``)."""
+    done = subprocess.run([node(), str(HARNESS), str(page), wanted],
+                          input=json.dumps(weights.tolist()),
                           capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr[-2000:]
     return np.asarray(json.loads(done.stdout))

@@ -166,7 +166,8 @@ class Face {
     this.pos = this.restPos.slice();
     this.nrm = this.restNrm.slice();
     this.tan = this.restTan.slice();
-    this.poses = scene.poses.map((pose, k) => ({ step: pose.step,
+    this.wrinkleRest = this.restPos.slice(); // the rest technique 2 measures from (onsets)
+    this.poses = scene.poses.map((pose, k) => ({ step: pose.step, onset: pose.onset || 0,
       vertices: arrays[`pose${k}.vertices`].data, deltas: arrays[`pose${k}.deltas`].data }));
     this.base = arrays['t1.base'].data;
     this.shown = arrays['t1.shown'].data;
@@ -175,23 +176,27 @@ class Face {
 
   // The neutral frame plus each pose's weighted change of position, normal and tangent (the
   // studio's own at each key pose, in steps of pose.step); normals renormalised, tangents made
-  // perpendicular again.
+  // perpendicular again. Technique 2's rest moves by what a pose's onset holds back of it
+  // (render/wrinkle_drive.py), so the shader measures the motion past each onset.
   deform(weights) {
     this.pos.set(this.restPos);
     this.nrm.set(this.restNrm);
     this.tan.set(this.restTan);
-    const { pos, nrm, tan } = this;
+    this.wrinkleRest.set(this.restPos);
+    const { pos, nrm, tan, wrinkleRest } = this;
     this.poses.forEach((pose, k) => {
       const w = weights[k];
       if (!w) return;
-      const { vertices, deltas } = pose;
+      const { vertices, deltas, onset } = pose;
       const [p, n, t] = pose.step.map((s) => s * w);
+      const held = onset > 0 ? pose.step[0] * (w - Math.max((w - onset) / (1 - onset), 0)) : 0;
       for (let i = 0; i < vertices.length; ++i) {
         const v = vertices[i], d = 9 * i;
         for (let c = 0; c < 3; ++c) {
           pos[3 * v + c] += p * deltas[d + c];
           nrm[3 * v + c] += n * deltas[d + 3 + c];
           tan[4 * v + c] += t * deltas[d + 6 + c];
+          if (held) wrinkleRest[3 * v + c] += held * deltas[d + c];
         }
       }
     });
@@ -208,11 +213,14 @@ class Face {
   }
 
   // Each area's own value plus gain * curve(weight) of its links, clamped to [0, 1]
-  // (core/wrinkles/influence.py); hidden areas show nothing.
+  // (core/wrinkles/influence.py), the weight first through its pose's onset
+  // (core/wrinkles/response.py onset_weight); hidden areas show nothing.
   activations(weights) {
     const out = Float32Array.from(this.base);
     for (const link of this.scene.links) {
-      const x = Math.min(Math.max(weights[link.pose], 0), 1) * (link.curve.length - 1);
+      const w = Math.min(Math.max(weights[link.pose], 0), 1);
+      const seen = link.onset > 0 ? Math.max((w - link.onset) / (1 - link.onset), 0) : w;
+      const x = seen * (link.curve.length - 1);
       const i = Math.min(Math.floor(x), link.curve.length - 2), f = x - i;
       out[link.area] += link.gain * (link.curve[i] * (1 - f) + link.curve[i + 1] * f);
     }
@@ -258,12 +266,12 @@ class Player {
       in_position: [make(face.pos, gl.DYNAMIC_DRAW), 3, face.pos],
       in_normal: [make(face.nrm, gl.DYNAMIC_DRAW), 3, face.nrm],
       in_tangent: [make(face.tan, gl.DYNAMIC_DRAW), 4, face.tan],
+      in_rest: [make(face.wrinkleRest, gl.DYNAMIC_DRAW), 3, face.wrinkleRest],
     };
     const attributes = {
       ...Object.fromEntries(Object.entries(this.dynamic).map(([k, [b, size]]) => [k, [b, size]])),
       in_uv: [make(arrays.uvs.data), 2],
       in_skin: [make(arrays.skin.data), 1],
-      in_rest: [make(face.restPos), 3],
       in_wdv: [make(arrays['wdv.dirs'].data), 16],
       in_cone: [make(arrays['wdv.cones'].data), 4],
       in_slot_map: [make(arrays['wdv.maps'].data), 4],

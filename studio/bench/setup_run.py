@@ -13,6 +13,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 
@@ -79,8 +80,10 @@ def table(results: list[tuple[str, dict[str, dict[str, float]]]]) -> str:
     return "\n".join(lines)
 
 
-def write_results(results: list[tuple[str, dict[str, dict[str, float]]]], out: Path) -> None:
-    """``setup.md`` (the table) and ``setup.csv`` (a row per head and stage) in ``out``."""
+def write_results(results: list[tuple[str, dict[str, dict[str, float]]]], out: Path,
+                  notes: Sequence[str] = ()) -> None:
+    """``setup.md`` (the table, then ``notes``: a line each) and ``setup.csv`` (a row per head
+    and stage) in ``out``."""
     text = io.StringIO(newline="")
     writer = csv.writer(text)
     writer.writerow(["head", "stage", "wall_s", "cpu_s", "peak_mb"])
@@ -89,7 +92,8 @@ def write_results(results: list[tuple[str, dict[str, dict[str, float]]]], out: P
             writer.writerow([label, name, round(f["wall_s"], 3), round(f["cpu_s"], 3),
                              round(f["peak_mb"], 1)])
     write_atomic(out / "setup.csv", text.getvalue().encode(), what="results")
-    write_atomic(out / "setup.md", (table(results) + "\n").encode(), what="results")
+    text = "\n\n".join([table(results), *notes]) + "\n"
+    write_atomic(out / "setup.md", text.encode(), what="results")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -7,6 +7,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from studio.commands.furrow_flags import add_furrow_flags, furrow_values
 from studio.core.files.errors import StudioError
 from studio.core.files.naming import shown, shown_list
 from studio.core.mesh.file_kinds import kinds_read
@@ -57,6 +58,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "vectors where it moves the skin and a soft mask where it compresses it "
                         "(and, without --wrinkle-normal, a wrinkled map synthesised from them)")
     p.add_argument("-o", "--output", required=True, help="project file to write (.wrinkle)")
+    add_furrow_flags(p)
     p.set_defaults(run=run)
 
 
@@ -115,7 +117,8 @@ def run(args: argparse.Namespace) -> int:
             made = new_project(args.mesh or args.gltf, dict(args.pose), args.diffuse,
                                args.normal, args.wrinkle_normal, flip=args.flip_green,
                                keep=keep, not_face=not_face, up=args.up, front=args.front,
-                               auto=args.auto, progress=bar.step)
+                               auto=args.auto, progress=bar.step,
+                               furrows=furrow_values(args))
             with stage("writing"):
                 save_project(made.project, out)
     except KeyboardInterrupt:

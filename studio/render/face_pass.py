@@ -19,6 +19,7 @@ from studio.render import deform_pass
 from studio.render.programs import UNITS, Programs, set_uniforms, write_matrix
 from studio.render.settings import VIEW_MODES
 from studio.render.triangle_split import TriangleSplit
+from studio.render.wrinkle_drive import WrinkleDrive
 
 if TYPE_CHECKING:
     from studio.render.deform_pass import DeformPass
@@ -61,7 +62,8 @@ class FacePass:
         self._wdv = ctx.buffer(np.zeros((v, 4 * SLOTS + 2 * SLOTS), "f4").tobytes())
         self._skin = ctx.buffer(np.ones(v, "f4").tobytes())
         self._strain = ctx.buffer(reserve=v * 4, dynamic=True)
-        self._strain_key: tuple[int, float] | None = None  # (pose version, full_at)
+        self.drive = WrinkleDrive(mesh)  # what t2 and strain measure when poses have onsets
+        self._strain_key: tuple[int, float, int] | None = None  # (pose, full_at, drive)
         self._strain_split: tuple[object, np.ndarray] = (None, np.zeros(v, np.float32))
         self.split = TriangleSplit(self.ibo, mesh.triangles, mesh.uvs, mesh.rest[mesh.weld])
         self._vaos: dict[tuple[str, ...], moderngl.VertexArray] = {}
@@ -85,11 +87,25 @@ class FacePass:
         in_use = (slots.dirs[..., 3] > 0) & (slots.cones > 0)
         self.split.set_slots(in_use.any(axis=1)[weld])
 
+    def set_wrinkle_drive(self, positions: np.ndarray | None, drive: np.ndarray | None) -> None:
+        """What technique 2 and the automatic mode measure (see ``WrinkleDrive``): this
+        frame's welded positions and the drive, or None for both to measure the face."""
+        if drive is None and not self.drive.active:
+            return
+        rest = self.drive.set(positions, drive)
+        self._static.write(np.hstack([self.mesh.uvs.astype("f4"), rest]).tobytes())
+
     def update_strain(self, full_at: float) -> None:
-        """Compression weights for this frame's pose (only when the pose or gain changed)."""
-        key = (self.deform.version, full_at)
+        """Compression weights for this frame's pose (only when the pose, gain or drive
+        changed)."""
+        key = (self.deform.version, full_at, self.drive.version)
         if key != self._strain_key:
-            self._strain_split = self.deform.write_strain(self._strain, full_at)
+            if self.drive.active:
+                weights = self.drive.strain(full_at)
+                self._strain.write(weights.tobytes())
+                self._strain_split = (key, weights)
+            else:
+                self._strain_split = self.deform.write_strain(self._strain, full_at)
             self._strain_key = key
 
     # --- drawing --------------------------------------------------------------------------

@@ -109,6 +109,11 @@ class FaceRenderer:
         deforming on the GPU: the blend, normals and tangents follow at draw."""
         self.deform.set_weights(weights)
 
+    def set_wrinkle_drive(self, positions: np.ndarray | None, drive: np.ndarray | None) -> None:
+        """With poses' onsets: this frame's welded positions and the welded positions the
+        wrinkles of technique 2 and the automatic mode measure (None, None: the face's own)."""
+        self.face.set_wrinkle_drive(positions, drive)
+
     def set_skin(self, skin: np.ndarray) -> None:
         """(W,) per welded vertex: 1 where wrinkles may show, 0 on not-face vertices."""
         self.face.set_skin(skin)

@@ -51,7 +51,7 @@ class ProjectScene:
         self.renderer.set_area_maps([index(a.wrinkle_map) for a in self.project.influence.areas])
 
     def reload_activations(self) -> None:
-        activations = self.project.influence.activations(self.weights)
+        activations = self.project.activations(self.weights)
         if self.preview_area is not None:  # painting: the area being painted, alone, at 1
             activations = (np.arange(len(activations)) == self.preview_area).astype(
                 activations.dtype)
@@ -78,5 +78,22 @@ class ProjectScene:
             else:
                 self.renderer.set_positions(self.blender.blend(self.weights))
             self._posed = self.weights
+            self.reload_drive()
         self.reload_activations()
         return changed
+
+    def reload_onsets(self) -> None:
+        """The poses' onsets changed: what every technique's wrinkles see of the pose."""
+        self.reload_drive()
+        self.reload_activations()
+
+    def reload_drive(self) -> None:
+        """What technique 2 and the automatic mode measure: with an onset on a posed pose,
+        the face blended with its weights through the onsets; else the face itself."""
+        weights = self.weights
+        if not self.project.has_onsets(weights):
+            self.renderer.set_wrinkle_drive(None, None)
+            return
+        positions = self.blender.blend(weights).copy()
+        self.renderer.set_wrinkle_drive(positions,
+                                        self.blender.blend(self.project.wrinkle_weights(weights)))

@@ -200,7 +200,7 @@ class Document(QObject):
     # --- derived values ------------------------------------------------------------------------
     def activations(self) -> np.ndarray:
         """Technique-1 activation vector: sliders plus the links from the current pose weights."""
-        return self.project.influence.activations(self.pose_weights)
+        return self.project.activations(self.pose_weights)
 
     # --- playback (not undoable, like scrubbing in any animation tool) ------------------------
     def show_frame(self, frame: float) -> None:

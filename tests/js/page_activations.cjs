@@ -3,8 +3,10 @@
 // 1's activations exactly as the page does before drawing.
 //
 //   node page_activations.cjs PAGE.html < weights.json   (a list of lists, one weight per pose)
+//   node page_activations.cjs PAGE.html rest < weights.json
 //
-// Prints a JSON list of activation lists. The page's `main` is left to fail on the missing
+// Prints a JSON list of activation lists (with `rest`: of the rest positions technique 2
+// measures from, x y z per vertex, after the page's own `deform`). The page's `main` is left to fail on the missing
 // canvas (the stand-in document has none); everything it declares stays in the context.
 'use strict';
 const fs = require('fs');
@@ -25,9 +27,15 @@ vm.runInContext(script, context, { filename: 'page-script.js' });
 context.sceneText = element('scene');
 context.dataText = element('data');
 context.weightSets = JSON.parse(fs.readFileSync(0, 'utf8'));
+context.wanted = process.argv[3] === 'rest' ? 'rest' : 'activations';
 const run = `(async () => {
   const scene = JSON.parse(sceneText);
   const face = new Face(scene, readArrays(await inflate(dataText), scene.arrays));
-  return JSON.stringify(weightSets.map((w) => Array.from(face.activations(Float32Array.from(w)))));
+  const of = (w) => {
+    if (wanted === 'activations') return Array.from(face.activations(w));
+    face.deform(w);
+    return Array.from(face.wrinkleRest);
+  };
+  return JSON.stringify(weightSets.map((w) => of(Float32Array.from(w))));
 })()`;
 vm.runInContext(run, context).then((text) => process.stdout.write(text));

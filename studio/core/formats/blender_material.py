@@ -34,7 +34,8 @@ def blender_setup(project: Project, model: str, mask_files: list[str], map_files
     areas = []
     for area, image, file in zip(influence.areas, mask_images, mask_files, strict=True):
         links = [{"pose": pose, "term": link_term(
-                      float(gains[area.name]), curve_of(influence.curves, pose, area.name))}
+                      float(gains[area.name]), curve_of(influence.curves, pose, area.name),
+                      project.furrows.of(pose).onset)}
                  for pose, gains in influence.links.items() if gains.get(area.name, 0.0) > 0]
         if area.visible and (links or area.activation > 0):
             areas.append({"name": area.name, "image": image, "file": file,
@@ -52,13 +53,14 @@ def blender_setup(project: Project, model: str, mask_files: list[str], map_files
                if project.not_face is not None else {})}
 
 
-def link_term(gain: float, curve: ResponseCurve) -> str:
+def link_term(gain: float, curve: ResponseCurve, onset: float = 0.0) -> str:
     """A link's contribution, ``gain · curve(x)``, as a Blender driver's simple expression of
     ``{x}`` (the shape key's variable, filled in by the script): min, max and arithmetic only,
     so it runs without "Auto Run Python Scripts". The same curves as core/wrinkles/response.py:
     the cubics in t = clamp((x - start) / (end - start), 0, 1), custom points piecewise linear
-    and flat beyond the ends."""
-    x = "{x}"
+    and flat beyond the ends. A pose's onset is baked in: the weight goes through
+    ``response.onset_weight`` first (an onset of 0 leaves the expression as it was)."""
+    x = "{x}" if onset <= 0.0 else f"max(({{x}} - {onset!r}) / {1.0 - onset!r}, 0.0)"
     if curve.kind == "linear":
         return f"{gain!r} * {x}"
     if curve.kind == "custom":

@@ -126,6 +126,11 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
         "pose_links": project.influence.links,
         # the non-linear links' response curves: contribution = gain · curve(pose weight)
         "pose_curves": curves_to_dict(project.influence.curves),
+        # each pose's onset where it has one: the weight goes through max(0, (w - onset) /
+        # (1 - onset)) before the curves (core/wrinkles/response.py onset_weight)
+        **({"pose_onsets": onsets} if (onsets := {
+            p.name: o for p in project.poses if (o := project.furrows.of(p.name).onset) > 0})
+           else {}),
         **uv_tiles_note(project),
         "packed_layout": layout,
         "wdv": {"expression_factor": project.wdv.expression_factor,

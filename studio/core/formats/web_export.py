@@ -19,8 +19,12 @@ What the page computes per frame, and where the studio computes the same:
   recomputes normals from the blended positions, which differs by a fraction of a degree;
 * technique 1's activations: each area's own value plus ``gain · curve(weight)`` of its links,
   clamped, with each link's response curve sampled at ``CURVE_SAMPLES`` points by the studio's
-  own ``ResponseCurve.evaluate`` (linear in between: exact for linear links);
-* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders.
+  own ``ResponseCurve.evaluate`` (linear in between: exact for linear links); the weight first
+  through its pose's onset (carried per link, not baked into the samples, whose spacing would
+  round the onset's corner: ``response.onset_weight``);
+* technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders,
+  technique 2 measuring from a rest moved by what each pose's onset holds back
+  (``render/wrinkle_drive.py``; each pose's onset carried with its deltas).
 """
 
 from __future__ import annotations
@@ -130,13 +134,15 @@ def pose_deltas(project: Project, frame: str, blob: _Blob) -> list[dict]:
         blob.add(f"pose{k}.deltas", np.round(kinds / step[None, :, None]).astype(np.int16)
                  .reshape(len(moved), 9))
         poses.append({"name": pose.name, "vertices": len(moved),
-                      "step": [float(v) for v in step]})
+                      "step": [float(v) for v in step],
+                      "onset": project.furrows.of(pose.name).onset})
     return poses
 
 
 def t1_links(project: Project) -> tuple[list[dict], np.ndarray]:
-    """Each pose → area link as (pose, area, gain) with its response curve sampled on [0, 1],
-    and the areas' own values (0 for hidden areas, which the studio never shows)."""
+    """Each pose → area link as (pose, area, gain) with its response curve sampled on [0, 1]
+    and its pose's onset, and the areas' own values (0 for hidden areas, which the studio
+    never shows)."""
     influence = project.influence
     areas = [a.name for a in influence.areas]
     poses = [p.name for p in project.poses]
@@ -150,7 +156,8 @@ def t1_links(project: Project) -> tuple[list[dict], np.ndarray]:
                 continue
             curve = curve_of(influence.curves, pose, area).evaluate(xs)
             links.append({"pose": poses.index(pose), "area": areas.index(area),
-                          "gain": float(gain), "curve": [round(float(v), 6) for v in curve]})
+                          "gain": float(gain), "curve": [round(float(v), 6) for v in curve],
+                          "onset": project.furrows.of(pose).onset})
     return links, np.asarray(influence.activations({}), np.float32)  # hidden ones are 0
 
 

@@ -23,6 +23,8 @@ MIGRATIONS: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     2: lambda doc: {**doc, "furrows": doc.get("furrows", {})},  # 3: the furrow controls,
     # all at 1 (the maps as they were synthesised); no records: a map synthesised before
     # version 3 is kept as it is, like one the user made
+    3: lambda doc: doc,  # 4: each pose's onset among the furrow controls; absent = 0, the
+    # lines appearing from the first movement as before (a version-3 studio refuses the key)
 }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import difflib
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -14,6 +15,7 @@ from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.uv_tiles import UvTiles
 from studio.core.wrinkles.furrow_controls import FurrowSettings
 from studio.core.wrinkles.influence import InfluenceSetup
+from studio.core.wrinkles.response import onset_weight
 from studio.core.wrinkles.textures import FaceTextures
 from studio.core.wrinkles.wdv import WdvSetup
 
@@ -35,7 +37,7 @@ class Project:
     not_face: np.ndarray | None = None
     # UDIM tiles packed into the 0–1 atlas the mesh's UVs are in; None = one tile as imported
     uv_tiles: UvTiles | None = None
-    # the synthesised furrows' controls (depth, spacing, sharpness) and their maps' records
+    # the furrow controls (depth, spacing, sharpness; the poses' onsets) and their maps' records
     furrows: FurrowSettings = field(default_factory=FurrowSettings)
 
     def __post_init__(self) -> None:
@@ -106,6 +108,26 @@ class Project:
         hint = f"; closest: {', '.join(close)}" if close else ""
         raise StudioError(f"unknown pose '{name}' (the project has {len(names) - 1} key poses "
                           f"and the neutral{hint})")
+
+    def wrinkle_weights(self, weights: Mapping[str, float]) -> dict[str, float]:
+        """The pose weights as the wrinkles see them: each through its pose's onset (the furrow
+        controls'), the face's shape still following ``weights`` themselves."""
+        names = list(weights)
+        seen = onset_weight([weights[n] for n in names], self.furrows.onsets(names))
+        return dict(zip(names, (float(w) for w in seen), strict=True))
+
+    def has_onsets(self, poses: Iterable[str]) -> bool:
+        """Whether any of ``poses`` shows its lines later than its weight (an onset above 0)."""
+        return bool((self.furrows.onsets(poses) > 0.0).any())
+
+    def activations(self, weights: Mapping[str, float]) -> np.ndarray:
+        """Technique 1's area activations at these pose weights, each pose through its onset."""
+        return self.influence.activations(self.wrinkle_weights(weights))
+
+    def activations_over(self, poses: Sequence[str], weights: np.ndarray) -> np.ndarray:
+        """(F, N) activations for F frames of ``weights`` (F, len(poses)), through the onsets."""
+        seen = onset_weight(np.asarray(weights, dtype=np.float64), self.furrows.onsets(poses))
+        return self.influence.activations_over(poses, seen)
 
     def single_pose_weights(self, name: str, weight: float = 1.0) -> dict[str, float]:
         """Weights that show one key pose (at ``weight``) and nothing else."""

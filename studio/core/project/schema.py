@@ -25,7 +25,7 @@ Layout (every name relative to the archive root)::
 
 ``project.json``::
 
-    {"format": "wrinkle-studio-project", "version": 3, "name": "...",
+    {"format": "wrinkle-studio-project", "version": 4, "name": "...",
      "mesh": {"source": "...", "welded_vertices": W, "render_vertices": V, "triangles": F},
      "poses": ["smile", ...],
      "wrinkle_maps": ["wrinkles", "smile lines"],   (names of the wrinkled maps, in order)
@@ -43,11 +43,15 @@ Layout (every name relative to the archive root)::
                         "cones": "wdv/00_cones.npy" (optional),
                         "directions": "wdv/00_directions.npy",
                         "lengths": "wdv/00_lengths.npy"}, ...]},
-     "furrows": {"all": {"depth", "spacing", "sharpness"},     (optional: factors, 1 = as
-                 "poses": {"pose": {"depth", ...}},         synthesised; a pose's own on top
+     "furrows": {"all": {"depth", "spacing", "sharpness",      (optional: factors, 1 = as
+                         "onset"},                          synthesised; the onset a pose
+                 "poses": {"pose": {"depth", ...}},         weight, 0 = lines from the start
+                                                            (version 4); a pose's own on top
                  "maps": {"map": {"poses", "spacing",       of all poses'; each synthesised
                                   "depth", "anatomy",       map's record, to make it again:
-                                  "digest"}}},              FurrowSettings.to_dict)
+                                  "digest",                 FurrowSettings.to_dict;
+                                  "over_neutral"}}},        over_neutral: version 4, absent
+                                                            = true)
      "view": {...}, "timeline": {...}}
 
 Why this shape: images are ordinary PNGs, so a mask can be opened in any image editor straight
@@ -98,7 +102,7 @@ from studio.core.wrinkles.textures import FaceTextures
 Array = np.ndarray
 
 FORMAT = "wrinkle-studio-project"
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 SUFFIX = ".wrinkle"
 
 # Limits that stop a damaged or hostile archive before anything large is read or allocated.

@@ -19,15 +19,16 @@ from studio.core.project.model import Project
 from studio.core.setup.anatomy import FacePlaces
 from studio.core.setup.wrinkle_synth import (
     FurrowField,
+    Progress,
     SynthOptions,
     face_places,
     grouped_maps,
     pose_fields,
 )
-from studio.core.wrinkles.furrow_controls import FurrowSettings, map_digest
+from studio.core.wrinkles.furrow_controls import FurrowSettings, SynthesisedMap, map_digest
 
 Array = np.ndarray
-_Key = tuple[int, str, int, float, int, float, float]  # see ``FurrowMaps._key``
+_Key = tuple[int, str, int, float, int, float, float, bool]  # see ``FurrowMaps._key``
 
 
 class FurrowMaps:
@@ -47,7 +48,7 @@ class FurrowMaps:
     @staticmethod
     def _made_key(project: Project, name: str) -> tuple:
         record = project.furrows.maps[name]
-        return record.digest, tuple(project.furrows.of(p) for p in record.poses)
+        return record.digest, tuple(project.furrows.of(p).shape for p in record.poses)
 
     def pending(self, project: Project) -> dict[str, tuple]:
         """{map: what it is to be made with} for the synthesised maps whose poses' controls
@@ -115,20 +116,27 @@ class FurrowMaps:
         if not self.is_synthesised(project, name):
             return None
         settings = settings or project.furrows
-        record = settings.maps[name]
-        image = project.textures.wrinkle_maps[name]
+        size = int(project.textures.wrinkle_maps[name].shape[0])
+        return self.draw(project, settings.maps[name], settings, size,
+                         None if stop is None else lambda *_: not stop())
+
+    def draw(self, project: Project, record: SynthesisedMap, settings: FurrowSettings,
+             size: int, progress: Progress | None = None) -> Array | None:
+        """A map of ``size`` texels as ``record`` and the controls in ``settings`` make it:
+        the one way the set-up's maps, the Synthesise dialog's and every remake are drawn.
+        None if ``progress`` (called with done, total) returned False."""
         known = {p.name for p in project.poses}
         poses = [p for p in record.poses if p in known]
-        options = SynthOptions(size=int(image.shape[0]), spacing=record.spacing,
-                               depth=record.depth)
+        options = SynthOptions(size=size, spacing=record.spacing, depth=record.depth)
         controls = [settings.of(p) for p in poses]
-        keys = [self._key(project, p, c.spacing, options) for p, c in zip(poses, controls,
-                                                                         strict=True)]
+        keys = [self._key(project, p, c.spacing, options, record.anatomy)
+                for p, c in zip(poses, controls, strict=True)]
         missing = [i for i, key in enumerate(keys) if key not in self._fields]
         if missing:
             fields = pose_fields(project, [poses[i] for i in missing], options,
-                                 [controls[i] for i in missing], places=self.places(project),
-                                 progress=None if stop is None else lambda *_: not stop())
+                                 [controls[i] for i in missing],
+                                 places=self.places(project) if record.anatomy else None,
+                                 progress=progress, anatomy=record.anatomy)
             if fields is None:
                 return None
             for i, field in zip(missing, fields, strict=True):
@@ -136,7 +144,12 @@ class FurrowMaps:
         fields = [self._fields[key] for key in keys]
         self._forget(keys)
         return grouped_maps(fields, controls, options, [list(range(len(fields)))],
-                            project.textures.normal_neutral)[0]
+                            project.textures.normal_neutral, record.over_neutral)[0]
+
+    def took(self, project: Project, name: str) -> None:
+        """The named map was just drawn with the project's controls (``draw``) and put in
+        the project with its record: only a later change of its poses' controls remakes it."""
+        self._made_with[name] = self._made_key(project, name)
 
     def places(self, project: Project) -> FacePlaces:
         """The face's places, found once per face (its mesh and not-face flags)."""
@@ -146,11 +159,13 @@ class FurrowMaps:
         return self._places[2]
 
     @staticmethod
-    def _key(project: Project, pose: str, spacing: float, options: SynthOptions) -> _Key:
+    def _key(project: Project, pose: str, spacing: float, options: SynthOptions,
+             anatomy: bool) -> _Key:
         """What a pose's field depends on: the face (its mesh and pose shape, by identity:
-        a new import is a new object), the pose, the map's size and options, its spacing."""
+        a new import is a new object), the pose, the map's size and options, its spacing,
+        whether anatomy places its lines."""
         return (id(project.mesh), pose, id(project.pose(pose).positions), spacing,
-                options.size, options.spacing, options.depth)
+                options.size, options.spacing, options.depth, anatomy)
 
     def _forget(self, keep: Sequence[_Key]) -> None:
         """Drop the fields of these poses at spacings no longer in use (a drag's earlier

@@ -12,6 +12,7 @@ from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import NamedTuple
 
+from studio.core.files.errors import StudioError
 from studio.core.formats.assemble import project_from_files
 from studio.core.formats.vrm import leave_out_toggles
 from studio.core.project.model import Project
@@ -43,14 +44,16 @@ def new_project(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
                 wrinkled: str | Path | None = None, *, flip: bool = False,
                 keep: Collection[str] | None = None, not_face: Collection[str] | None = None,
                 part_kind: str | None = None, up: str | None = None, front: str | None = None,
-                auto: bool = False, progress: Progress | None = None) -> NewSetup:
+                auto: bool = False, progress: Progress | None = None,
+                furrows: Mapping[str | None, Mapping[str, float]] | None = None) -> NewSetup:
     """A project from a neutral mesh (OBJ, PLY, glTF, VRM, FBX, …), key-pose files and maps,
     set up as the command line does it. ``keep``, ``not_face`` and ``part_kind`` as
     ``project_from_files``'s; ``flip``: the normal maps are DirectX's (green down); ``up``
     and ``front``: the user's axes (``parse_axis`` spellings), over the file's own; ``auto``:
     toggles left out and the automatic set-up run, reporting to ``progress`` (done, total),
-    which cancels it by returning False (``done`` is None then). StudioError for a bad file
-    or axis, naming it."""
+    which cancels it by returning False (``done`` is None then); ``furrows``: the furrow
+    controls, {pose (None: all poses): {control: value}}, set before the set-up synthesises
+    the maps with them. StudioError for a bad file, axis or control, naming it."""
     for axis in (up, front):
         if axis is not None:
             parse_axis(axis)  # a bad axis fails before any file is read
@@ -62,6 +65,8 @@ def new_project(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
         if flip:
             _flip_normal_maps(project)
     _choose_axes(project, up, front)
+    if furrows:
+        _set_furrows(project, furrows)
     with stage("face finding"):
         toggles = leave_out_toggles(project, found) if auto else set()
         frame = _mark_body(project, found)
@@ -75,6 +80,19 @@ def new_project(mesh: str | Path, poses: Mapping[str, str | Path] | None = None,
             done = auto_start(project, locate=face_locator(frame), progress=progress,
                               poses=wanted if toggles or carried else None, frame=frame)
     return NewSetup(project, found, frame.how, done)
+
+
+def _set_furrows(project: Project, values: Mapping[str | None, Mapping[str, float]]) -> None:
+    """The furrow controls given, on poses the face has (StudioError naming one it lacks)."""
+    names = [p.name for p in project.poses]
+    for pose in values:
+        if pose is not None and pose not in names:
+            raise StudioError(f"the furrow controls name a pose the face does not have: "
+                              f"'{pose}' (key poses: {', '.join(names) or 'none'})")
+    try:
+        project.furrows = project.furrows.with_values(values)
+    except ValueError as exc:
+        raise StudioError(f"furrow controls: {exc}") from None
 
 
 def set_up_poses(project: Project) -> set[str]:

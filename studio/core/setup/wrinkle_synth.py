@@ -596,13 +596,13 @@ def controlled(fields: Sequence[FurrowField], controls: Sequence[FurrowControls]
 
 
 def grouped_maps(fields: Sequence[FurrowField], controls: Sequence[FurrowControls],
-                 options: SynthOptions, groups: Sequence[Sequence[int]], neutral: Array
-                 ) -> list[Array]:
-    """A wrinkled map per group of fields, over the neutral map, each pose's furrows as its
-    controls shape them: what ``fill_placeholder`` makes, and ``furrow_maps`` makes again
-    when a control changes."""
+                 options: SynthOptions, groups: Sequence[Sequence[int]], neutral: Array,
+                 over_neutral: bool = True) -> list[Array]:
+    """A wrinkled map per group of fields, over the neutral map (unless ``over_neutral`` is
+    False), each pose's furrows as its controls shape them: what ``fill_placeholder`` and the
+    Synthesise dialog make, and ``furrow_maps`` makes again when a control changes."""
     depths = furrow_depths(controlled(fields, controls), options.size, groups)
-    return [height_to_map((-options.depth * depth).astype(np.float32), neutral)
+    return [height_to_map((-options.depth * depth).astype(np.float32), neutral, over_neutral)
             for depth in depths]
 
 
@@ -1060,13 +1060,15 @@ def fill_placeholder(project: Project, options: SynthOptions | None = None,
 
 def pose_fields(project: Project, names: Sequence[str], options: SynthOptions,
                 controls: Sequence[FurrowControls], progress: Progress | None = None,
-                places: FacePlaces | None = None) -> list[FurrowField] | None:
+                places: FacePlaces | None = None, anatomy: bool = True
+                ) -> list[FurrowField] | None:
     """The furrow fields of these poses as ``new --auto`` lays them out (anatomy placing the
-    primary lines), at each pose's spacing; None if ``progress`` stopped. ``places``: the
-    face's (``face_places``), if known."""
+    primary lines; without ``anatomy``, as the Synthesise dialog does, the strain alone), at
+    each pose's spacing; None if ``progress`` stopped. ``places``: the face's
+    (``face_places``), if known."""
     return furrow_fields(project.skin_mesh(), [project.pose(n).positions for n in names],
                          options, project.skin_weights(), progress,
-                         places=places or face_places(project),
+                         places=(places or face_places(project)) if anatomy else None,
                          spacings=[c.spacing for c in controls])
 
 

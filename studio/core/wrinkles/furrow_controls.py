@@ -1,5 +1,6 @@
 """What an artist turns to shape synthesised furrows: depth, spacing and sharpness, for all poses
-and per pose, and the record of which wrinkled maps were synthesised from which poses.
+and per pose, how soon along a pose's weight its lines appear (its onset), and the record of
+which wrinkled maps were synthesised from which poses.
 
 The controls are factors on what the synthesis grows from each pose's strain
 (``studio.core.setup.wrinkle_synth``): 1 everywhere is exactly the look the blind review scored
@@ -9,13 +10,19 @@ layer's opacity by its folder's. A map is made again from its record (``Synthesi
 control of one of its poses changes, so the record keeps the size-independent options it was
 made with; ``digest`` tells a map still as synthesised from one the user replaced since (loaded
 from a file, painted elsewhere), which the controls must not overwrite.
+
+The onset is not a factor on the map but on the pose's weight as the wrinkles see it: from 0
+(today's behaviour, lines from the first movement) to ``MAX_ONSET``, the weight below which the
+pose shows no lines; above it the lines grow over the rest of the weight
+(``studio.core.wrinkles.response.onset_weight``), in every technique. A pose's onset on top of
+all poses' composes as two such remaps do, ``1 - (1 - a)(1 - b)``.
 """
 
 from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -23,8 +30,13 @@ import numpy as np
 
 # (least, most) of each control: a furrow can vanish (depth 0) but never invert; spacing and
 # sharpness stay within what the profile and the phase can draw without aliasing
-RANGES = {"depth": (0.0, 4.0), "spacing": (0.25, 4.0), "sharpness": (0.25, 4.0)}
-LABELS = {"depth": "Depth", "spacing": "Spacing", "sharpness": "Sharpness"}
+# the onset stops short of 1: a pose fully on still shows a sliver of its lines
+MAX_ONSET = 0.95
+RANGES = {"depth": (0.0, 4.0), "spacing": (0.25, 4.0), "sharpness": (0.25, 4.0),
+          "onset": (0.0, MAX_ONSET)}
+LABELS = {"depth": "Depth", "spacing": "Spacing", "sharpness": "Sharpness", "onset": "Onset"}
+# the controls that shape the synthesised maps (the onset shapes when they show, not the maps)
+MAP_CONTROLS = ("depth", "spacing", "sharpness")
 
 
 def _factor(value: Any, name: str) -> float:
@@ -43,6 +55,7 @@ class FurrowControls:
     depth: float = 1.0  # × the furrows' depth (and so their walls' tilt, up to MAX_TILT)
     spacing: float = 1.0  # × the distance between neighbouring furrows
     sharpness: float = 1.0  # × the valley profile's exponent: narrower furrows, flatter skin
+    onset: float = 0.0  # the pose's weight below which its lines do not show
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -53,9 +66,17 @@ class FurrowControls:
         return self == DEFAULT
 
     def times(self, other: FurrowControls) -> FurrowControls:
-        """These factors applied on top of ``other``'s (a pose's on the "all poses" ones)."""
-        return FurrowControls(*(min(max(getattr(self, n) * getattr(other, n), RANGES[n][0]),
-                                    RANGES[n][1]) for n in RANGES))
+        """These factors applied on top of ``other``'s (a pose's on the "all poses" ones); the
+        onsets as one weight remap after the other."""
+        factors = {n: min(max(getattr(self, n) * getattr(other, n), RANGES[n][0]), RANGES[n][1])
+                   for n in MAP_CONTROLS}
+        onset = 1.0 - (1.0 - self.onset) * (1.0 - other.onset)
+        return FurrowControls(**factors, onset=min(onset, MAX_ONSET))
+
+    @property
+    def shape(self) -> FurrowControls:
+        """Only what shapes the maps (the onset at its default): what a map is made with."""
+        return replace(self, onset=0.0)
 
     def to_dict(self) -> dict[str, float]:
         return {name: getattr(self, name) for name in RANGES}
@@ -89,16 +110,20 @@ class SynthesisedMap:
     depth: float  # texels, before the controls
     anatomy: bool = True  # anatomy placed the primary lines (``new --auto``'s maps)
     digest: str = ""  # ``map_digest`` of the map as last synthesised
+    over_neutral: bool = True  # laid over the neutral map's detail (the Synthesise dialog's
+    # choice; the set-up's maps always are)
 
     def to_dict(self) -> dict[str, Any]:
         return {"poses": list(self.poses), "spacing": self.spacing, "depth": self.depth,
-                "anatomy": self.anatomy, "digest": self.digest}
+                "anatomy": self.anatomy, "digest": self.digest,
+                "over_neutral": self.over_neutral}
 
     @classmethod
     def from_dict(cls, doc: Any) -> SynthesisedMap:
         if not isinstance(doc, dict):
             raise ValueError("must be a JSON object")
         poses, digest, anatomy = doc.get("poses"), doc.get("digest", ""), doc.get("anatomy", True)
+        over_neutral = doc.get("over_neutral", True)
         if not isinstance(poses, list) or not all(isinstance(p, str) for p in poses):
             raise ValueError("poses must be a list of pose names")
         for name in ("spacing", "depth"):
@@ -106,9 +131,11 @@ class SynthesisedMap:
             if isinstance(value, bool) or not isinstance(value, int | float) \
                     or not math.isfinite(value) or value <= 0:
                 raise ValueError(f"{name} must be a positive number")
-        if not isinstance(digest, str) or not isinstance(anatomy, bool):
-            raise ValueError("digest must be text and anatomy true or false")
-        return cls(tuple(poses), float(doc["spacing"]), float(doc["depth"]), anatomy, digest)
+        if not isinstance(digest, str) or not isinstance(anatomy, bool) \
+                or not isinstance(over_neutral, bool):
+            raise ValueError("digest must be text, anatomy and over_neutral true or false")
+        return cls(tuple(poses), float(doc["spacing"]), float(doc["depth"]), anatomy, digest,
+                   over_neutral)
 
 
 @dataclass(eq=False)
@@ -122,6 +149,10 @@ class FurrowSettings:
     def of(self, pose: str) -> FurrowControls:
         """The factors a pose's furrows are made with: its own on top of all poses'."""
         return self.poses.get(pose, DEFAULT).times(self.all)
+
+    def onsets(self, poses: Iterable[str]) -> np.ndarray:
+        """(P,) float64: each pose's combined onset, in the order given."""
+        return np.array([self.of(p).onset for p in poses], dtype=np.float64).reshape(-1)
 
     def maps_of(self, pose: str | None) -> list[str]:
         """The synthesised maps a change of ``pose``'s controls remakes (None: all poses)."""
@@ -142,6 +173,21 @@ class FurrowSettings:
         if not controls.is_default:
             poses[pose] = controls
         return replace(self, poses=poses)
+
+    def with_values(self, values: Mapping[str | None, Mapping[str, float]]) -> FurrowSettings:
+        """A copy with controls set by name, {pose (None: all poses): {control: value}}, the
+        others kept (the command line's flags); ValueError naming a bad one."""
+        out = self
+        for pose, changes in values.items():
+            current = out.controls(pose).to_dict()
+            out = out.with_controls(pose, _named(lambda d: FurrowControls(**d),
+                                                 {**current, **changes},
+                                                 pose or "all poses"))
+        return out
+
+    def with_map(self, name: str, record: SynthesisedMap) -> FurrowSettings:
+        """A copy with the named map's record added or replaced (a map just synthesised)."""
+        return replace(self, maps={**self.maps, name: record})
 
     def pruned(self, poses: Iterable[str], maps: Iterable[str]) -> FurrowSettings:
         """A copy without the controls of poses, and the records of maps, that are gone

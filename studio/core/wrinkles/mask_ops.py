@@ -44,7 +44,13 @@ def _box(a: Array, r: int, axis: int) -> Array:
 
 
 def blur(mask: Array, radius: float) -> Array:
-    """Approximate Gaussian blur (three box passes per axis); ``radius`` ≈ σ·2 in pixels."""
+    """Approximate Gaussian blur (three box passes per axis); ``radius`` ≈ σ·2 in pixels.
+
+    A 2-D mask is blurred over the box of its non-zero pixels grown by the blur's reach only:
+    outside that box the passes add zeros to zeros, so the result there is exactly 0 and
+    inside it is bit for bit the whole image's (the passes' running sums start from exactly
+    0 either way). A pose's mask covers a small part of the map: the set-up and the
+    synthesis blur hundreds of them."""
     r = max(round(radius / 2.0), 0)
     if r == 0:
         return mask.copy()
@@ -53,9 +59,34 @@ def blur(mask: Array, radius: float) -> Array:
         for _ in range(3):
             out = _box(_box(out, r, 0), r, 1)
         return np.clip(out, 0.0, 1.0)
+    box = _reach(out, 3 * r)
+    if box is None:  # nothing to blur
+        return np.clip(out, 0.0, 1.0)
+    if box == (slice(0, out.shape[0]), slice(0, out.shape[1])):
+        return _blur_2d(out, r)
+    result = np.zeros_like(out)
+    result[box] = _blur_2d(out[box], r)
+    return result
+
+
+def _reach(image: Array, reach: int) -> tuple[slice, slice] | None:
+    """The rows and columns of ``image``'s non-zero pixels grown by ``reach`` (within the
+    image); None when every pixel is 0."""
+    rows = np.flatnonzero(image.any(axis=1))
+    if not rows.size:
+        return None
+    cols = np.flatnonzero(image.any(axis=0))
+    h, w = image.shape
+    return (slice(max(rows[0] - reach, 0), min(rows[-1] + reach + 1, h)),
+            slice(max(cols[0] - reach, 0), min(cols[-1] + reach + 1, w)))
+
+
+def _blur_2d(image: Array, r: int) -> Array:
+    """``blur``'s passes over a whole 2-D float32 image, clipped to [0, 1]."""
     # the passes along the rows, then along the rows of the transposed image: box filters on
     # the two axes commute, and numpy's cumulative sum down axis 0 steps a whole row at a time
     # through memory, several times slower (the sample's set-up blurs some 200 maps)
+    out = image
     for _ in range(3):
         out = _box(out, r, 1)
     out = np.ascontiguousarray(out.T)

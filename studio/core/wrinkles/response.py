@@ -198,6 +198,19 @@ class CurveBank:
         return out
 
 
+def onset_weight(x: Array | float, onset: Array | float) -> Array:
+    """Pose weights ``x`` as the wrinkles see them with an onset (broadcast together): 0 up to
+    the onset, then rising linearly to 1 at full weight, ``max(0, (x - onset) / (1 - onset))``
+    — a remap of the weight before each link's curve, so every curve keeps its shape over what
+    is left of the movement. An onset of 0 leaves the weight exactly as it is (no clamp), which
+    keeps every file made before onsets as it was; float64."""
+    x = np.asarray(x, dtype=np.float64)
+    onset = np.asarray(onset, dtype=np.float64)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        remapped = np.maximum((x - onset) / (1.0 - onset), 0.0)
+    return np.where(onset > 0.0, remapped, x)
+
+
 def curves_to_dict(curves: CurveTable) -> dict[str, dict[str, dict[str, Any]]]:
     """The non-linear curves as JSON (linear is the default and is left out)."""
     doc = {pose: {area: c.to_dict() for area, c in by_area.items() if not c.linear}

@@ -39,7 +39,10 @@ class TriangleStrain:
 
 class UvStrain:
     """Strain in the UV parametrisation, with what depends only on the neutral face (the UV
-    edge inverses and the rest metric) prepared once for any number of poses."""
+    edge inverses, the rest metric and the neutral face's own strain) prepared once for any
+    number of poses. A pose is measured only on the triangles it moves: every quantity is
+    per triangle, so a still triangle's is the neutral face's, bit for bit — a pose that
+    moves the brows costs the brows, not the head."""
 
     def __init__(self, mesh: FaceMesh) -> None:
         tri = mesh.triangles
@@ -51,27 +54,50 @@ class UvStrain:
         # U = [d1 d2] (columns); U⁻¹ = [[d2y, −d2x], [−d1y, d1x]] / det
         self._u_inv = (d2[:, 1] * inv, -d2[:, 0] * inv, -d1[:, 1] * inv, d1[:, 0] * inv)
         self._welded = mesh.welded_triangles
+        self._rest_points = np.asarray(mesh.rest)
         self.rest = self.metric(mesh.rest)
         b00, b01, b11 = self.rest
         self._det_b = b00 * b11 - b01 * b01
         self._ok = ok & (self._det_b > 1e-12 * np.maximum(b00 + b11, 1e-300) ** 2)
         self._det_b = np.where(self._ok, self._det_b, 1.0)
+        self._neutral = self._strain(mesh.rest, slice(None))
 
-    def metric(self, points: Array) -> Metric:
-        """JᵀJ of the map from image offsets to 3-D offsets, J = E · U⁻¹ (E: edge vectors)."""
-        p = np.asarray(points, np.float64)[self._welded]
+    def metric(self, points: Array, where: Array | slice = slice(None)) -> Metric:
+        """JᵀJ of the map from image offsets to 3-D offsets, J = E · U⁻¹ (E: edge vectors),
+        of the triangles ``where`` (all by default)."""
+        p = np.asarray(points, np.float64)[self._welded[where]]
         e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-        i00, i01, i10, i11 = self._u_inv
+        i00, i01, i10, i11 = (part[where] for part in self._u_inv)
         j0 = e1 * i00[:, None] + e2 * i10[:, None]
         j1 = e1 * i01[:, None] + e2 * i11[:, None]
         return ((j0 * j0).sum(1), (j0 * j1).sum(1), (j1 * j1).sum(1))
 
+    def moved(self, target: Array) -> Array:
+        """(F,) bool: the triangles with a corner the pose moves."""
+        shifted = (np.asarray(target) != self._rest_points).any(axis=1)
+        return shifted[self._welded].any(axis=1)
+
     def of(self, target: Array) -> TriangleStrain:
-        """Per-triangle compression and its direction for one pose: the generalised
-        eigenproblem ``A v = λ B v`` of the pose metric A against the rest metric B."""
-        a00, a01, a11 = self.metric(target)
-        b00, b01, b11 = self.rest
-        det_b, ok = self._det_b, self._ok
+        """Per-triangle compression and its direction for one pose (the neutral face's on the
+        triangles it does not move)."""
+        where = np.flatnonzero(self.moved(target))
+        neutral = self._neutral
+        out = TriangleStrain(neutral.compression.copy(), neutral.wave.copy(),
+                             neutral.anisotropy.copy(), neutral.stretch.copy())
+        if where.size:
+            strain = self._strain(target, where)
+            out.compression[where] = strain.compression
+            out.wave[where] = strain.wave
+            out.anisotropy[where] = strain.anisotropy
+            out.stretch[where] = strain.stretch
+        return out
+
+    def _strain(self, target: Array, where: Array | slice) -> TriangleStrain:
+        """The triangles ``where``'s strain: the generalised eigenproblem ``A v = λ B v`` of
+        the pose metric A against the rest metric B."""
+        a00, a01, a11 = self.metric(target, where)
+        b00, b01, b11 = (part[where] for part in self.rest)
+        det_b, ok = self._det_b[where], self._ok[where]
         det_a = a00 * a11 - a01 * a01
         trace = a00 * b11 + a11 * b00 - 2.0 * a01 * b01
         root = np.sqrt(np.maximum(trace * trace - 4.0 * det_b * det_a, 0.0))

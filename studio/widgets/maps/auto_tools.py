@@ -6,7 +6,8 @@
   pose weights, made editable, one undo step each;
 - **Synthesise Wrinkled Normal Map…**: furrows from the poses' compression
   (studio.core.setup.wrinkle_synth), added as a named wrinkled map (or replacing one), one undo
-  step.
+  step; recorded with its options, as the set-up's maps are, so the Furrows panel's controls
+  make it again (drawn by ``furrow_maps.FurrowMaps.draw``, the one way every map is drawn).
 
 ``install_auto_tools(window)`` is the one call the main window makes. The undo steps reuse the
 editors' commands: the area lists of techniques 1 and 2 (mask_edits.AreasCommand,
@@ -15,6 +16,8 @@ wdv_edits.AreaListCommand; both under one macro undo as one step) and the Maps m
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 from PySide6.QtCore import Qt
@@ -36,16 +39,18 @@ from studio.core.files.errors import StudioError
 from studio.core.files.naming import unique_name
 from studio.core.setup import auto_setup
 from studio.core.setup.face_frame import face_locator
+from studio.core.setup.furrow_maps import FurrowMaps
 from studio.core.setup.wrinkle_synth import (
     SynthOptions,
     default_size,
     face_options,
     is_flat,
-    synthesise_wrinkle_map,
 )
+from studio.core.wrinkles.furrow_controls import SynthesisedMap, map_digest
 from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS
 from studio.widgets.dialog_buttons import action_buttons
 from studio.widgets.document import Document
+from studio.widgets.maps.furrow_controls import push_furrows
 from studio.widgets.maps.map_tools import WrinkleMapsCommand
 from studio.widgets.paint.edits import AreasCommand
 from studio.widgets.progress import progress_dialog
@@ -247,18 +252,29 @@ class AutoTools:
                         dialog.options(), dialog.over_neutral.isChecked(),
                         dialog.reveal.isChecked())
 
-    def _set_wrinkle_map(self, name: str, image: np.ndarray, poses: list[str],
+    def _set_wrinkle_map(self, name: str, image: np.ndarray, record: SynthesisedMap,
                          reveal: bool) -> None:
-        """Add the named wrinkled map or replace it, and with ``reveal`` let the areas of
-        ``poses`` reveal it: one undo step."""
-        maps = self.doc.project.textures.wrinkle_maps
+        """Add the named wrinkled map or replace it, with its record (so the Furrows panel's
+        controls make it again, as they do the set-up's maps), and with ``reveal`` let the
+        areas of its poses reveal it: one undo step."""
+        doc = self.doc
+        maps = doc.project.textures.wrinkle_maps
         if name not in maps and len(maps) >= MAX_WRINKLE_MAPS:
             raise StudioError(f"a face can have at most {MAX_WRINKLE_MAPS} wrinkled maps; "
                               "choose one to replace")
-        areas = auto_setup.areas_of_poses(self.doc.project, poses) if reveal else []
-        self.doc.undo_stack.push(WrinkleMapsCommand(
-            self.doc, {**maps, name: image}, {id(a): name for a in areas},
-            f"Synthesise wrinkled map {name}"))
+        areas = auto_setup.areas_of_poses(doc.project, list(record.poses)) if reveal else []
+        text = f"Synthesise wrinkled map {name}"
+        doc.undo_stack.beginMacro(text)
+        doc.undo_stack.push(WrinkleMapsCommand(
+            doc, {**maps, name: image}, {id(a): name for a in areas}, text))
+        push_furrows(doc, doc.project.furrows.with_map(name, record), text, None)
+        doc.undo_stack.endMacro()
+        self._furrow_maps().took(doc.project, name)
+
+    def _furrow_maps(self) -> FurrowMaps:
+        """The Furrows panel's maps (their poses' fields kept for its controls' remakes)."""
+        panel = getattr(self.window, "furrow_panel", None)
+        return panel.maps if panel is not None else FurrowMaps()
 
     def synthesise(self, name: str, poses: list[str], options: SynthOptions,
                    over_neutral: bool = True, reveal: bool = True) -> bool:
@@ -266,17 +282,24 @@ class AutoTools:
         True when a map was added or replaced, False if cancelled or refused."""
         progress, step = progress_dialog(self.window, "Synthesise Wrinkled Normal Map",
                                          "Synthesising the wrinkled normal map…")
+        project = self.doc.project
+        record = SynthesisedMap(tuple(poses), options.spacing, options.depth, anatomy=False,
+                                over_neutral=over_neutral)
         try:
-            result = synthesise_wrinkle_map(self.doc.project, poses, options,
-                                            over_neutral=over_neutral, progress=step)
-            if result is not None:
-                self._set_wrinkle_map(name, result.normal, poses, reveal)
+            if not poses:
+                raise StudioError("a wrinkled map is synthesised from key poses, and none "
+                                  "was chosen")
+            image = self._furrow_maps().draw(project, record, project.furrows, options.size,
+                                             step)
+            if image is not None:
+                self._set_wrinkle_map(name, image,
+                                      replace(record, digest=map_digest(image)), reveal)
         except StudioError as exc:
             self.window.show_error("Cannot synthesise the wrinkled map", exc)
             return False
         finally:
             progress.close()
-        if result is None:
+        if image is None:
             return False
         self._say(f"Synthesised the wrinkled map “{name}” from {', '.join(poses)}")
         return True

@@ -1,7 +1,11 @@
-"""The Furrows panel: depth, spacing and sharpness of the synthesised furrows, for all poses or
-one, live in the viewport (issue 45, point 6).
+"""The Furrows panel: depth, spacing and sharpness of the synthesised furrows, and how soon along
+a pose's weight its lines appear (its onset), for all poses or one, live in the viewport
+(issue 45, point 6).
 
-Each control is a factor (1 = as synthesised, the look the blind review scored best). A slider
+Depth, spacing and sharpness are factors (1 = as synthesised, the look the blind review scored
+best) and shape the synthesised maps only; the onset is a pose weight (0 = lines from the first
+movement, as before) and reaches every technique's wrinkles, authored or synthesised, so the
+pose list holds every pose. A slider
 drag is one undo step (a ``ValueCommand`` merged by its gesture), a typed value with Return one
 more; the document keeps the controls (``Project.furrows``), saved with the project. A change
 makes again only the synthesised maps that hold the changed pose's furrows
@@ -21,7 +25,13 @@ from PySide6.QtWidgets import QApplication, QComboBox, QLabel, QPushButton, QVBo
 from studio.core.files.errors import StudioError
 from studio.core.project.model import Project
 from studio.core.setup.furrow_maps import FurrowMaps
-from studio.core.wrinkles.furrow_controls import LABELS, RANGES, FurrowControls, FurrowSettings
+from studio.core.wrinkles.furrow_controls import (
+    LABELS,
+    MAP_CONTROLS,
+    RANGES,
+    FurrowControls,
+    FurrowSettings,
+)
 from studio.widgets.commands import ValueCommand
 from studio.widgets.document import Document
 from studio.widgets.slider_row import SliderRow, fit_labels
@@ -30,7 +40,10 @@ ALL_POSES = "All poses"
 REMAKE_AFTER_MS = 60  # a pause in a drag this long shows its furrows
 TIPS = {"depth": "How deep the furrows run (their walls steepen, never past 35°)",
         "spacing": "How far apart neighbouring furrows lie: 2 × gives half as many lines",
-        "sharpness": "How narrow each furrow is between the flat skin beside it"}
+        "sharpness": "How narrow each furrow is between the flat skin beside it",
+        "onset": "The pose's weight below which its lines do not show (its shape still "
+                 "moves); above it they grow to full at full weight. 0: from the start"}
+SUFFIXES = {"onset": ""}  # a weight, not a factor
 
 
 class FurrowPanel(QWidget):
@@ -58,7 +71,8 @@ class FurrowPanel(QWidget):
         QApplication.instance().aboutToQuit.connect(stop_jobs)
         layout = QVBoxLayout(self)
         intro = QLabel("Shape the furrows of the wrinkled maps synthesised from the poses "
-                       "(×1: as synthesised).")
+                       "(×1: as synthesised), and choose how far into each pose its lines "
+                       "appear.")
         intro.setWordWrap(True)
         layout.addWidget(intro)
         self.pose = QComboBox()
@@ -70,13 +84,16 @@ class FurrowPanel(QWidget):
         self.rows: dict[str, SliderRow] = {}
         for name in RANGES:
             low, high = RANGES[name]
-            row = SliderRow(LABELS[name], low, high, decimals=2, suffix=" ×")
+            row = SliderRow(LABELS[name], low, high, decimals=2,
+                            suffix=SUFFIXES.get(name, " ×"))
             row.setToolTip(TIPS[name])
             row.edited.connect(lambda value, gesture, n=name: self._edit(n, value, gesture))
             self.rows[name] = row
             layout.addWidget(row)
         fit_labels(list(self.rows.values()))
-        self.reset = QPushButton("Reset to as synthesised")
+        self.reset = QPushButton("Reset to defaults")
+        self.reset.setToolTip("Every control of the chosen pose (or of all poses) back to "
+                              "as synthesised, with no onset")
         self.reset.clicked.connect(self._reset)
         layout.addWidget(self.reset)
         self.status = QLabel()
@@ -101,16 +118,14 @@ class FurrowPanel(QWidget):
         return self.pose.currentData()
 
     def _fill_poses(self) -> None:
-        """All poses, then each pose whose furrows a synthesised map holds, in the face's
-        order; the chosen one kept when it is still there."""
+        """All poses, then each pose in the face's order (the onset reaches every pose's
+        wrinkles); the chosen one kept when it is still there."""
         chosen = self.chosen()
-        recorded = {p for record in self.doc.project.furrows.maps.values() for p in record.poses}
         self.pose.blockSignals(True)
         self.pose.clear()
         self.pose.addItem(ALL_POSES, None)
         for pose in self.doc.project.poses:
-            if pose.name in recorded:
-                self.pose.addItem(pose.name, pose.name)
+            self.pose.addItem(pose.name, pose.name)
         self.pose.setCurrentIndex(max(self.pose.findData(chosen), 0))
         self.pose.blockSignals(False)
         self._show()
@@ -122,12 +137,19 @@ class FurrowPanel(QWidget):
             row.set_value(getattr(controls, name))
         maps = self._live_maps()
         enabled = bool(maps)
-        for widget in (self.pose, *self.rows.values(), self.reset):
-            widget.setEnabled(enabled)
-        if not furrows.maps:
-            self.status.setText("No wrinkled map here was synthesised from the poses: New "
-                                "from Files (or wrinkle-studio new --auto) synthesises them "
-                                "for a face that came without one.")
+        for name in MAP_CONTROLS:
+            self.rows[name].setEnabled(enabled)
+        has_poses = bool(self.doc.project.poses)
+        for widget in (self.pose, self.rows["onset"], self.reset):
+            widget.setEnabled(has_poses)
+        if not furrows.maps_of(self.chosen()) and furrows.maps:
+            self.status.setText("No synthesised map holds this pose's furrows: its onset "
+                                "still times the lines of every technique.")
+        elif not furrows.maps:
+            self.status.setText("No wrinkled map here was synthesised from the poses (New "
+                                "from Files or wrinkle-studio new --auto synthesises them for "
+                                "a face that came without one): the onset still times the "
+                                "lines of every technique.")
         elif not enabled:
             self.status.setText("The synthesised maps were replaced since: the controls leave "
                                 "them as they are.")
@@ -206,6 +228,7 @@ def push_furrows(doc: Document, settings: FurrowSettings, text: str, merge_key) 
     def apply(value: FurrowSettings) -> None:
         doc.project.furrows = value
         doc.furrowsChanged.emit()
+        doc.activationsChanged.emit()  # the onsets reach technique 1's activations
 
     if _same(read(), settings):
         return
@@ -213,7 +236,7 @@ def push_furrows(doc: Document, settings: FurrowSettings, text: str, merge_key) 
 
 
 def _same(a: FurrowSettings, b: FurrowSettings) -> bool:
-    return a.all == b.all and a.poses == b.poses
+    return a.all == b.all and a.poses == b.poses and a.maps == b.maps
 
 
 def _announce(ready, stop: list[bool], _job: Future) -> None:
@@ -235,7 +258,8 @@ def install_furrow_controls(window) -> FurrowPanel:
     window._add_dock("Furrows", panel, Qt.DockWidgetArea.RightDockWidgetArea)
     dock = window.docks["Furrows"]
     action = window.menus["Maps"].addAction("Furrow Controls")
-    action.setStatusTip("Depth, spacing and sharpness of the synthesised furrows, per pose")
+    action.setStatusTip("Depth, spacing and sharpness of the synthesised furrows, and each "
+                        "pose's onset")
     action.triggered.connect(lambda: (dock.show(), dock.raise_()))
     window.furrow_panel = panel
     return panel

@@ -183,12 +183,12 @@ def activation_curves(project: Project, frames: np.ndarray, base: dict[str, floa
     """Pose weights and technique-1 activations at many frames at once.
 
     Poses without keys keep their ``base`` weight (as ``Document.show_frame`` does); the
-    activations are ``InfluenceSetup.activations_over`` — own value plus Σ gain·curve(weight),
+    activations are ``Project.activations_over`` — own value plus Σ gain·curve(weight),
     hidden areas at 0, clamped — for every frame at once instead of a call per frame.
     """
-    timeline, influence = project.timeline, project.influence
+    timeline = project.timeline
     animated = {t.pose: t.values_at(frames) for t in timeline.tracks if t.keys}
     names = [p.name for p in project.poses]
     weights = np.stack([animated.get(n, np.full(len(frames), base.get(n, 0.0))) for n in names],
                        axis=1) if names else np.zeros((len(frames), 0))
-    return animated, influence.activations_over(names, weights)
+    return animated, project.activations_over(names, weights)

@@ -138,6 +138,7 @@ class Viewport(QOpenGLWidget):
         d.maskRegionChanged.connect(self._mask_region_changed)
         d.wdvChanged.connect(lambda: self._invalidate("wdv"))
         d.wdvSettingsChanged.connect(lambda: self._invalidate("wdv settings"))
+        d.furrowsChanged.connect(lambda: self._invalidate("onsets"))  # the poses' onsets
         d.viewChanged.connect(self._update_labels)
         d.viewChanged.connect(self.update)
         d.cameraChanged.connect(self._moved)
@@ -204,7 +205,9 @@ class Viewport(QOpenGLWidget):
             scene.reload_area_maps()
         if "pose" in pending:
             scene.set_pose_weights(self.doc.pose_weights)
-        elif pending & {"activations", "areas"}:
+        if "onsets" in pending:
+            scene.reload_onsets()
+        elif "pose" not in pending and pending & {"activations", "areas"}:
             scene.reload_activations()
         if scene.preview_area != self._preview:
             scene.preview_area = self._preview

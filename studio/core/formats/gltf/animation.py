@@ -24,14 +24,16 @@ same weights at every sample.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from studio.core.animation.timeline import Key, Timeline, Track
 from studio.core.files.budgets import FRAMES, TIMELINE_KEYS
 from studio.core.files.errors import MeshError
-from studio.core.wrinkles.influence import InfluenceSetup
+
+if TYPE_CHECKING:
+    from studio.core.project.model import Project
 
 Array = np.ndarray
 EXTRAS_KEY = "wrinkleStudio"
@@ -63,10 +65,12 @@ def pose_weights(timeline: Timeline, poses: Sequence[str], frames: Array) -> Arr
     return out
 
 
-def animation_spec(timeline: Timeline, poses: Sequence[str], influence: InfluenceSetup,
-                   sink: AccessorSink, node: int = 0) -> dict | None:
-    """The ``animations`` entry for a timeline (None when it has no keys or there are no
-    morph targets to drive: a weights channel on a mesh without targets is invalid)."""
+def animation_spec(project: Project, sink: AccessorSink, node: int = 0) -> dict | None:
+    """The ``animations`` entry for the project's timeline (None when it has no keys or there
+    are no morph targets to drive: a weights channel on a mesh without targets is invalid).
+    The activations are the studio's own at each sample, the poses' onsets baked in."""
+    timeline, influence = project.timeline, project.influence
+    poses = [p.name for p in project.poses]
     if not poses or not timeline.has_keys:
         return None
     frames = sample_frames(timeline)
@@ -74,9 +78,9 @@ def animation_spec(timeline: Timeline, poses: Sequence[str], influence: Influenc
     times = sink.accessor(((frames - timeline.start) / timeline.fps)[:, None], "SCALAR",
                           bounds=True, vertex=False)
     values = sink.accessor(weights.reshape(-1, 1), "SCALAR", vertex=False)
-    activations = [influence.activations(dict(zip(poses, row, strict=True)))
-                   for row in weights.tolist()]
-    by_area = np.array(activations, dtype=np.float64).reshape(len(frames), -1).T
+    values_by_frame = [project.activations(dict(zip(poses, row, strict=True)))
+                       for row in weights.tolist()]
+    by_area = np.array(values_by_frame, dtype=np.float64).reshape(len(frames), -1).T
     return {
         "name": "timeline",
         "channels": [{"sampler": 0, "target": {"node": node, "path": "weights"}}],

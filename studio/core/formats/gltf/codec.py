@@ -695,8 +695,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
                  "extensions": {"KHR_materials_variants": mappings}}
     if targets:
         primitive["targets"] = targets
-    animation = animation_spec(project.timeline, [p.name for p in project.poses],
-                               project.influence, b)
+    animation = animation_spec(project, b)
     used = ["KHR_materials_variants"] + (["KHR_materials_unlit"] if masks else [])
     doc = {
         "asset": {"version": "2.0", "generator": "Wrinkle Studio"},
