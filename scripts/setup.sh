@@ -26,8 +26,10 @@ fi
 .venv/bin/python -m pip install -q --upgrade pip >/dev/null
 extras=${1:-}
 .venv/bin/python -m pip install -q -e ".${extras:+[$extras]}"
-# The tests run the Khronos glTF validator over every export (tests/test_gltf_validator.py): its
-# npm package, pinned, into .node/ (git-ignored), read by scripts/validate_gltf.js.
+# The tests run the Khronos glTF validator over every export (tests/test_gltf_validator.py) and
+# play the exports' wrinkles.js on three.js (tests/test_three_wrinkles.py): their npm packages,
+# pinned, into .node/ (git-ignored), read by scripts/validate_gltf.js and the three.js tests.
 if [[ ",$extras," == *",test,"* ]]; then
-  npm install --silent --no-audit --no-fund --prefix .node gltf-validator@2.0.0-dev.3.10 >/dev/null
+  npm install --silent --no-audit --no-fund --prefix .node gltf-validator@2.0.0-dev.3.10 \
+    three@0.160.1 >/dev/null
 fi

@@ -121,11 +121,11 @@ def relative(folder: Path, written: list[Path]) -> list[str]:
 
 
 def test_every_file_written_is_listed_in_order(udim_export: tuple[Path, list[Path]]) -> None:
-    """The glb, each mask and its two tile copies, the packed masks (five areas: two images),
-    the wrinkled maps, the neutral map, the Blender script, the sheet and the shaders; nothing
-    else is there."""
+    """The glb with the three.js module and its example page, each mask and its two tile
+    copies, the packed masks (five areas: two images), the wrinkled maps, the neutral map, the
+    Blender script, the sheet and the shaders; nothing else is there."""
     folder, written = udim_export
-    expected = ["face.glb"]
+    expected = ["face.glb", "wrinkles.js", "example.html"]
     for i, name in enumerate(SAFE_NAMES):
         expected += [f"masks/{i:02d}_{name}{tile}.png" for tile in ("", ".1001", ".1002")]
     for k in (0, 1):
@@ -286,8 +286,9 @@ def test_an_8_bit_export_of_a_face_on_one_tile(tmp_path: Path) -> None:
     written = export_quickly(tiny_project(udim=False), folder, bits=8, tangent_frame="thesis")
     names = relative(folder, written)
     assert not [name for name in names if ".100" in name]
-    assert names[:3] == ["face.glb", "masks/00_brow_L_R.png", "masks/01_smile.png"]
-    assert len(names) == 1 + 5 + 2 + 2 + 1 + 1 + 1 + len(SHADERS)
+    assert names[:5] == ["face.glb", "wrinkles.js", "example.html", "masks/00_brow_L_R.png",
+                         "masks/01_smile.png"]
+    assert len(names) == 3 + 5 + 2 + 2 + 1 + 1 + 1 + len(SHADERS)
     mask = read_image(folder / "masks" / "04_chin.png")
     assert mask.dtype == np.uint8 and np.array_equal(mask, levels(4) * 51)
     sheet = json.loads((folder / "wrinkles.json").read_text(encoding="utf-8"))

@@ -212,19 +212,9 @@ class Face {
     }
   }
 
-  // Each area's own value plus gain * curve(weight) of its links, clamped to [0, 1]
-  // (core/wrinkles/influence.py), the weight first through its pose's onset
-  // (core/wrinkles/response.py onset_weight); hidden areas show nothing.
+  // Technique 1's activations (activations.js, shared with the three.js module wrinkles.js).
   activations(weights) {
-    const out = Float32Array.from(this.base);
-    for (const link of this.scene.links) {
-      const w = Math.min(Math.max(weights[link.pose], 0), 1);
-      const seen = link.onset > 0 ? Math.max((w - link.onset) / (1 - link.onset), 0) : w;
-      const x = seen * (link.curve.length - 1);
-      const i = Math.min(Math.floor(x), link.curve.length - 2), f = x - i;
-      out[link.area] += link.gain * (link.curve[i] * (1 - f) + link.curve[i + 1] * f);
-    }
-    return out.map((a, i) => (this.shown[i] ? Math.min(Math.max(a, 0), 1) : 0));
+    return wrinkleActivations(this.scene.links, this.base, this.shown, weights);
   }
 }
 

@@ -17,6 +17,7 @@ from studio.core.files.errors import StudioError
 from studio.core.files.images import write_png
 from studio.core.formats.blender_material import SCRIPT, blender_script, blender_setup
 from studio.core.formats.gltf.codec import save_gltf, wdv_attributes
+from studio.core.formats.three_module import three_module_paths
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import curves_to_dict
 from studio.paths import shader_dir
@@ -88,6 +89,7 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
     make_folders(folder, ("masks", "shaders", "maps"))
     written = [folder / "face.glb"]
     save_gltf(project, written[0], tangent_frame)
+    written += three_module_paths(written[0])  # save_gltf writes wrinkles.js beside it
     areas = project.influence.areas
     layout = []
     mask_files = [f"masks/{i:02d}_{safe_name(a.name)}.png" for i, a in enumerate(areas)]

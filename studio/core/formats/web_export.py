@@ -18,10 +18,10 @@ What the page computes per frame, and where the studio computes the same:
   and renormalised — exact at a key pose, as glTF morph targets are; between poses the studio
   recomputes normals from the blended positions, which differs by a fraction of a degree;
 * technique 1's activations: each area's own value plus ``gain · curve(weight)`` of its links,
-  clamped, with each link's response curve sampled at ``CURVE_SAMPLES`` points by the studio's
-  own ``ResponseCurve.evaluate`` (linear in between: exact for linear links); the weight first
-  through its pose's onset (carried per link, not baked into the samples, whose spacing would
-  round the onset's corner: ``response.onset_weight``);
+  clamped, the weight first through its pose's onset (``response.onset_weight``; carried per
+  link, not baked into the curve's samples, whose spacing would round the onset's corner) —
+  core/formats/player_data.py: the same data and the same JavaScript
+  (``resources/web/activations.js``) as the three.js module shipped with glTF exports;
 * technique 1's weights (masks × activations) and technique 2's WDV visibility: the shaders,
   technique 2 measuring from a rest moved by what each pose's onset holds back
   (``render/wrinkle_drive.py``; each pose's onset carried with its deltas).
@@ -41,15 +41,13 @@ import numpy as np
 from studio.core.files.atomic_write import write_atomic
 from studio.core.formats.export import quantise
 from studio.core.formats.gltf.animation import pose_weights, sample_frames
+from studio.core.formats.player_data import t1_arrays, t1_links, vertex_arrays
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.geometry import DeformCache
 from studio.core.project.model import Project
-from studio.core.wrinkles.response import curve_of
 from studio.core.wrinkles.textures import pack_more_maps, pack_normal_maps
 from studio.paths import resource_dir, shader_dir
 
-#: points at which each pose → area link's response curve is sampled for the page
-CURVE_SAMPLES = 257
 #: the studio's shader files the page compiles (``#include`` is resolved in the page)
 WEB_SHADERS = ("common.glsl", "skin.glsl", "face.vert", "face.frag")
 #: a pose delta smaller than this (model units, or unit-vector components) is left out
@@ -139,28 +137,6 @@ def pose_deltas(project: Project, frame: str, blob: _Blob) -> list[dict]:
     return poses
 
 
-def t1_links(project: Project) -> tuple[list[dict], np.ndarray]:
-    """Each pose → area link as (pose, area, gain) with its response curve sampled on [0, 1]
-    and its pose's onset, and the areas' own values (0 for hidden areas, which the studio
-    never shows)."""
-    influence = project.influence
-    areas = [a.name for a in influence.areas]
-    poses = [p.name for p in project.poses]
-    xs = np.linspace(0.0, 1.0, CURVE_SAMPLES)
-    links = []
-    for pose, targets in influence.links.items():
-        if pose not in poses:
-            continue
-        for area, gain in targets.items():
-            if area not in areas:
-                continue
-            curve = curve_of(influence.curves, pose, area).evaluate(xs)
-            links.append({"pose": poses.index(pose), "area": areas.index(area),
-                          "gain": float(gain), "curve": [round(float(v), 6) for v in curve],
-                          "onset": project.furrows.of(pose).onset})
-    return links, np.asarray(influence.activations({}), np.float32)  # hidden ones are 0
-
-
 def timeline_data(project: Project) -> dict | None:
     """The timeline sampled at every frame and key (as the glTF animation is), for playing."""
     timeline = project.timeline
@@ -188,11 +164,8 @@ def web_scene(project: Project, camera: OrbitCamera, look: WebLook) -> tuple[dic
     poses = pose_deltas(project, look.tangent_frame, blob)
     blob.add("uvs", mesh.uvs.astype(np.float32))
     blob.add("triangles", mesh.triangles.astype(np.uint32))
-    blob.add("skin", np.asarray(project.skin_weights(), np.float32)[mesh.weld])
-    slots = project.wdv.pack_slots(mesh.n_welded, textures.map_index)
-    blob.add("wdv.dirs", slots.dirs.reshape(len(slots.dirs), -1)[mesh.weld].astype(np.float32))
-    blob.add("wdv.cones", slots.cones[mesh.weld].astype(np.float32))
-    blob.add("wdv.maps", slots.maps[mesh.weld].astype(np.float32))
+    for name, array in {**vertex_arrays(project), **t1_arrays(project)}.items():
+        blob.add(name, array)
     blob.add("diffuse", as_rgba8(textures.diffuse))
     normals = pack_normal_maps(textures.normal_neutral, textures.normal_wrinkled)
     blob.add("normals", as_rgba8(normals))
@@ -200,15 +173,10 @@ def web_scene(project: Project, camera: OrbitCamera, look: WebLook) -> tuple[dic
     blob.add("more_maps", (more >> 8).astype(np.uint8) if more.dtype == np.uint16 else more)
     masks = project.influence.mask_stack()
     blob.add("masks", quantise(masks) if len(masks) else np.zeros((1, 1, 1), np.uint8))
-    links, base = t1_links(project)
-    blob.add("t1.base", base)
-    blob.add("t1.shown", np.array([a.visible for a in project.influence.areas], np.float32))
-    blob.add("t1.maps", np.array([textures.map_index(a.wrinkle_map)
-                                  for a in project.influence.areas], np.float32))
     scene = {
         "poses": poses,
         "areas": [a.name for a in project.influence.areas],
-        "links": links,
+        "links": t1_links(project),
         "wrinkle_maps": len(textures.wrinkle_maps),
         "wdv": {"expression_factor": float(project.wdv.expression_factor),
                 "scale_free": bool(project.wdv.scale_free)},
@@ -238,7 +206,8 @@ def web_page(project: Project, camera: OrbitCamera, look: WebLook) -> str:
              "SCENE": _script_json(scene),
              "SHADERS": _script_json(shaders),
              "DATA": blob.payload(),
-             "PLAYER": (web / "player.js").read_text(encoding="utf-8")}
+             "PLAYER": "\n".join((web / name).read_text(encoding="utf-8")
+                                  for name in ("player.js", "activations.js"))}
     page = (web / "player.html").read_text(encoding="utf-8")
     # one pass: a pose named "{{DATA}}" in the scene is not filled in again
     return re.sub(r"\{\{([A-Z]+)\}\}", lambda m: fills[m.group(1)], page)

@@ -7,12 +7,13 @@ neutral normal maps; without the studio's extras, a weights animation becomes th
 (core/gltf_animation.py); a face without any UVs (no TEXCOORD_0) gets them from xatlas, said
 in the report. Export: render vertices with UVs, NORMAL and TANGENT in the project's
 tangent frame (so viewers read the normal maps as the studio does), one morph target per key pose
-(with its change of normal and tangent), the textures, every wrinkled map and mask also as a
-KHR_materials_variants material (masks unlit; viewers list them, the Khronos validator counts
-them used), the timeline as a morph-weight animation, and the studio's per-vertex data as custom
-vertex attributes, every one a float VEC3 (see :func:`vertex_attributes`): ``_WRINKLE_DIR_<n>``
-(each technique-2 area's directions), ``_WRINKLE_LEN_CONE_<n>`` (its lengths, painted cone angles
-and whether they are painted) and ``_WELD_NOTFACE_TILE`` (the welded vertex number, 1 on vertices
+(with its change of normal and tangent), the textures, every wrinkled map and mask also as an
+unlit KHR_materials_variants material (a picture of the map, never a skin look; viewers list
+them, the Khronos validator counts them used), the timeline as a morph-weight animation, and
+the studio's per-vertex data as custom vertex attributes, every one a float VEC3 (see
+:func:`vertex_attributes`): ``_WRINKLE_DIR_<n>`` (each technique-2 area's directions),
+``_WRINKLE_LEN_CONE_<n>`` (its lengths, painted cone angles and whether they are painted) and
+``_WELD_NOTFACE_TILE`` (the welded vertex number, 1 on vertices
 never wrinkled, the UDIM tile). Everything else the studio authored (masks as 16-bit PNG
 images, further wrinkled maps, which map each area reveals, links, cone angles, the timeline, the
 tangent frame) rides in ``extras.wrinkleStudio``, its images named (not numbered), so a file
@@ -20,7 +21,9 @@ exported here imports back with nothing lost. A re-export by another tool that d
 custom attributes (Blender, with any options) still does: ``TEXCOORD_1`` and a chunk of the
 neutral normal map's PNG carry the set-up (core/formats/gltf/carry.py), and the reader says what
 it could not bring back. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
-``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``; images by index) still open.
+``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``; images by index) still open. What the
+three.js module ``wrinkles.js`` (written beside every export) plays from rides in
+``extras.wrinklePlayer`` (core/formats/gltf/player.py).
 """
 
 from __future__ import annotations
@@ -57,9 +60,11 @@ from studio.core.formats.gltf.materials import (
     texture_source,
     wrinkle_image,
 )
+from studio.core.formats.gltf.player import PLAYER_KEY, player_extras
 from studio.core.formats.gltf.renames import pose_renames, renamed_extras, used_poses
 from studio.core.formats.gltf.scene import placed, placed_meshes, scene_meshes
-from studio.core.formats.gltf.survived import survived_setup
+from studio.core.formats.gltf.survived import MAP_PREFIX, MASK_PREFIX, survived_setup
+from studio.core.formats.three_module import ship_three_module
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
 from studio.core.mesh.meshio import ObjGroup, mesh_from_render_vertices
@@ -551,12 +556,16 @@ def _surface_attributes(project: Project, b: _Builder, frame: str) -> tuple[dict
     return attributes, deltas
 
 
-def _variants(textures: list[dict], wrinkle_maps: list[dict], masks: list[tuple[str, int]],
-              skin: dict) -> tuple[list[dict], dict, dict]:
-    """Materials showing each wrinkled map and each influence mask on the face, offered as
-    KHR_materials_variants: a viewer that knows the extension lists them by name, and the
-    glTF validator counts their textures and images as used. Returns the extra materials, the
-    root extension and the primitive's mappings (materials numbered after the skin, 0)."""
+def _variants(textures: list[dict], wrinkle_maps: list[dict], masks: list[tuple[str, int]]
+              ) -> tuple[list[dict], dict, dict]:
+    """Each wrinkled map and each influence mask shown as a picture on the face (unlit, as
+    Substance Painter shows a channel), offered as KHR_materials_variants: a viewer that knows
+    the extension lists them by name, the glTF validator counts their textures and images as
+    used, and another tool's re-export keeps the images (core/formats/gltf/survived.py reads
+    them back by these materials' names). Never a skin look with a whole wrinkled map as its
+    normal map: that would show every wrinkle at once, unmasked, which the face never does
+    (the wrinkles play through ``wrinkles.js``). Returns the extra materials, the root
+    extension and the primitive's mappings (materials numbered after the skin, 0)."""
     def texture(image: int) -> int:
         """The texture of an image, made if no texture shows it yet."""
         for i, spec in enumerate(textures):
@@ -565,18 +574,14 @@ def _variants(textures: list[dict], wrinkle_maps: list[dict], masks: list[tuple[
         textures.append({"source": image})
         return len(textures) - 1
 
-    materials, names = [], []
-    for spec in wrinkle_maps:
-        materials.append({**skin, "name": f"skin, wrinkled: {spec['name']}",
-                          "normalTexture": {"index": texture(spec["image"])}})
-        names.append(f"wrinkled: {spec['name']}")
-    for name, mask_image in masks:
-        materials.append({"name": f"mask: {name}", "extensions": {"KHR_materials_unlit": {}},
-                          "pbrMetallicRoughness": {"baseColorTexture": {
-                              "index": texture(mask_image)}, "metallicFactor": 0.0}})
-        names.append(f"mask: {name}")
-    root = {"variants": [{"name": n} for n in names]}
-    mappings = {"mappings": [{"material": 1 + i, "variants": [i]} for i in range(len(names))]}
+    shown = [(f"{MAP_PREFIX}{spec['name']}", spec["image"]) for spec in wrinkle_maps]
+    shown += [(f"{MASK_PREFIX}{name}", image) for name, image in masks]
+    materials = [{"name": name, "extensions": {"KHR_materials_unlit": {}},
+                  "pbrMetallicRoughness": {"baseColorTexture": {"index": texture(image)},
+                                           "metallicFactor": 0.0}}
+                 for name, image in shown]
+    root = {"variants": [{"name": name} for name, _ in shown]}
+    mappings = {"mappings": [{"material": 1 + i, "variants": [i]} for i in range(len(shown))]}
     return materials, root, mappings
 
 
@@ -688,7 +693,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
         "normalTexture": {"index": 1}}
     variant_materials, variants, mappings = _variants(
         textures, [{"name": n, "image": i} for n, i in zip(tex.wrinkle_map_names, maps,
-                                                            strict=True)], masks, skin)
+                                                            strict=True)], masks)
     primitive = {"attributes": attributes, "indices": b.accessor(mesh.triangles.ravel(),
                                                                   "SCALAR", indices=True),
                  "material": 0, "mode": 4,
@@ -696,7 +701,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
     if targets:
         primitive["targets"] = targets
     animation = animation_spec(project, b)
-    used = ["KHR_materials_variants"] + (["KHR_materials_unlit"] if masks else [])
+    used = ["KHR_materials_variants", "KHR_materials_unlit"]
     doc = {
         "asset": {"version": "2.0", "generator": "Wrinkle Studio"},
         "extensionsUsed": used,
@@ -713,9 +718,10 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
         "textures": textures, "images": images,
         **({"animations": [animation]} if animation else {}),
         "accessors": b.accessors, "bufferViews": b.views,
-        "buffers": [{"byteLength": len(b.blob)}],
         "extras": {EXTRAS_KEY: studio},
     }
+    doc["extras"][PLAYER_KEY] = player_extras(project, b.view, map_images, mask_images)
+    doc["buffers"] = [{"byteLength": len(b.blob)}]
     text = json.dumps(doc, separators=(",", ":")).encode("utf-8")
     text += b" " * (-len(text) % 4)
     blob = bytes(b.blob) + b"\0" * (-len(b.blob) % 4)
@@ -725,6 +731,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
     from studio.core.files.atomic_write import write_atomic
 
     write_atomic(path, data, MeshError, what="file")
+    ship_three_module(path)
 
 
 def load_weight_animation(path: str | Path) -> tuple[list[str], Array, Array]:

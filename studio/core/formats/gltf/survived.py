@@ -4,8 +4,9 @@ set to JPEG or WebP).
 The set-up rides in the neutral normal map's PNG data (core/formats/gltf/carry.py); a JPEG or
 WebP copy of the map has none. What such a re-export still holds of the studio's: the second
 UV map (``TEXCOORD_1``: the welding and the UDIM tiles), the images under the names the studio
-gave them (``mask: AREA``, the wrinkled maps) and the variant materials ``skin, wrinkled: MAP``
-that name the wrinkled maps, and the timeline as the weights animation. From those the set-up's
+gave them (``mask: AREA``, the wrinkled maps) and the variant materials ``wrinkled map: MAP``
+that name the wrinkled maps (``skin, wrinkled: MAP`` with the map as its normal texture in
+files written before), and the timeline as the weights animation. From those the set-up's
 areas, masks and maps are rebuilt, with one line saying what could not come back and why.
 """
 
@@ -17,7 +18,8 @@ from studio.core.formats.gltf.materials import texture_source
 
 NEUTRAL_IMAGE = "normal_neutral"  # the name the export gives the neutral normal map's image
 MASK_PREFIX = "mask: "
-VARIANT_PREFIX = "skin, wrinkled: "
+MAP_PREFIX = "wrinkled map: "  # a wrinkled map shown as a picture (its base colour)
+VARIANT_PREFIX = "skin, wrinkled: "  # older files: the map as a skin's normal texture
 FORMATS = {"image/jpeg": "JPEG", "image/webp": "WebP"}
 
 
@@ -40,10 +42,9 @@ def survived_setup(g: _Gltf, attrs: dict) -> tuple[dict, str] | None:
     maps, unshown = [], []
     for material in _list(g, g.doc, "materials"):
         name = material.get("name", "") if isinstance(material, dict) else ""
-        info = material.get("normalTexture") if isinstance(material, dict) else None
-        if isinstance(name, str) and name.startswith(VARIANT_PREFIX) and isinstance(info, dict):
-            maps.append({"name": name[len(VARIANT_PREFIX):],
-                         "image": names[texture_source(g, info)]})
+        info = _map_texture(material, name)
+        if info is not None:
+            maps.append({"name": name.split(": ", 1)[1], "image": names[texture_source(g, info)]})
         elif isinstance(name, str) and name.startswith(MASK_PREFIX) and name not in names:
             unshown.append(name[len(MASK_PREFIX):])  # its material came, its mask did not
     extras = {"influence": {"areas": [{"name": a, "image": MASK_PREFIX + a} for a in areas],
@@ -58,3 +59,16 @@ def survived_setup(g: _Gltf, attrs: dict) -> tuple[dict, str] | None:
             + " and technique-2 areas (set them up again with Auto Setup, or export the images "
             "as PNG to keep them)")
     return extras, line
+
+
+def _map_texture(material: object, name: object) -> dict | None:
+    """The texture reference of a material showing a wrinkled map, None for any other."""
+    if not (isinstance(material, dict) and isinstance(name, str)):
+        return None
+    if name.startswith(MAP_PREFIX):
+        info = (material.get("pbrMetallicRoughness") or {}).get("baseColorTexture")
+    elif name.startswith(VARIANT_PREFIX):
+        info = material.get("normalTexture")
+    else:
+        return None
+    return info if isinstance(info, dict) else None
