@@ -362,7 +362,7 @@ MARIONETTE = ((0.39, -0.56), (0.47, -0.86))  # … and a marionette line, down f
 FOLD_REACH = 0.12  # the fold follows the pose's strongest compression this far either side …
 FOLD_BINS = 10  # … found over this many stretches along it …
 FOLD_POWER = 3.0  # … weighting the compression by this power (its strongest, not its spread)
-FOLD_WIDTH = (0.3, 0.4)  # one valley this wide (face x) inside and outside its bottom: a
+FOLD_WIDTH = (0.3, 0.55)  # one valley this wide (face x) inside and outside its bottom: a
 # single broad fold, steeper toward the mouth and the cheek rolling over it, no second one beside
 # it (0.14 and 0.4, three times as deep, drew a trench with hard walls)
 FLAT_BEYOND = 0.02  # past its rims the phase rises this much as steeply: the skin stays flat
