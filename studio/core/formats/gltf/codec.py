@@ -22,7 +22,8 @@ custom attributes (Blender, with any options) still does: ``TEXCOORD_1`` and a c
 neutral normal map's PNG carry the set-up (core/formats/gltf/carry.py), and the reader says what
 it could not bring back. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
 ``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``; images by index) still open. What the
-three.js module ``wrinkles.js`` (written beside every export) plays from rides in
+three.js module ``wrinkles.js`` (written beside every export, with the Blender script
+``blender_wrinkles.py``: core/formats/blender_material.py) plays from rides in
 ``extras.wrinklePlayer`` (core/formats/gltf/player.py).
 """
 
@@ -732,6 +733,10 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
 
     write_atomic(path, data, MeshError, what="file")
     ship_three_module(path)
+    # the Blender script (techniques 1 and 2 as a material) beside it; it reads this module
+    from studio.core.formats.blender_material import ship_blender_script
+
+    ship_blender_script(project, path)
 
 
 def load_weight_animation(path: str | Path) -> tuple[list[str], Array, Array]:
