@@ -133,14 +133,7 @@ def build(obj) -> None:
         return node
 
     def math(operation: str, a, b, x: float, y: float, clamp: bool = False):
-        node = nodes.new("ShaderNodeMath")
-        node.operation, node.use_clamp, node.location = operation, clamp, (x, y)
-        for socket, value in zip(node.inputs[:2], (a, b), strict=True):
-            if isinstance(value, float):
-                socket.default_value = value
-            else:
-                links.new(value, socket)
-        return node.outputs[0]
+        return node_math(nodes, links, operation, a, b, (x, y), clamp)
 
     maps = SETUP["wrinkle_maps"]
     weights = []
@@ -154,7 +147,7 @@ def build(obj) -> None:
             total = product if total is None else math("ADD", total, product, -900.0, y)
         weights.append(None if total is None
                        else math("ADD", total, 0.0, -700.0, -300.0 * m, clamp=True))
-    t2 = wdv_weights(obj, nodes, links, math, len(maps))
+    t2 = wdv_weights(obj, nodes, math, len(maps))
     used = [(m, w) for m, w in enumerate(choose_technique(obj, nodes, math, weights, t2))
             if w is not None]
     if not used:
@@ -192,33 +185,51 @@ def choose_technique(obj, nodes, math, t1: list, t2: list) -> list:
     return out
 
 
-def attribute(nodes, links, name: str, location):
-    """The mesh attribute ``name`` as a vector, and split into its three columns."""
-    node = nodes.new("ShaderNodeAttribute")
-    node.attribute_name, node.location = name, location
-    split = nodes.new("ShaderNodeSeparateXYZ")
-    split.location = (location[0] + 150.0, location[1])
-    links.new(node.outputs["Vector"], split.inputs[0])
-    return node.outputs["Vector"], split.outputs
+T2_ATTRIBUTE = "wrinkle_t2_{}"  # technique 2's weight of wrinkled map {}, per vertex
 
 
-def wdv_weights(obj, nodes, links, math, n_maps: int) -> list:
-    """Technique 2: each wrinkled map's weight from the wrinkle direction vectors (None for a
-    map no area reveals; all None where the import lost the vertex attributes)."""
+def wdv_weights(obj, nodes, math, n_maps: int) -> list:
+    """Technique 2: each wrinkled map's weight (None for a map no area reveals; all None
+    where the import lost the vertex attributes), worked out per vertex by the modifier
+    (wdv_modifier) and read here interpolated, as the studio's vertex shader hands it on."""
+    revealed = wdv_modifier(obj)
+    strength = driven(nodes, obj, "technique 2 strength", "strength", {"strength": STRENGTH},
+                      (-1900.0, 1650.0))
+    out = []
+    for m in range(n_maps):
+        if m not in revealed:
+            out.append(None)
+            continue
+        weight = nodes.new("ShaderNodeAttribute")
+        weight.attribute_name = T2_ATTRIBUTE.format(m)
+        weight.location = (-1900.0, 1500.0 - 200.0 * m)
+        out.append(math("MULTIPLY", weight.outputs["Fac"], strength, -1700.0, 1500.0 - 200 * m))
+    return out
+
+
+def wdv_modifier(obj) -> set[int]:
+    """A Geometry Nodes modifier (after the shape keys) that stores, per vertex, each wrinkled
+    map's technique-2 weight as ``T2_ATTRIBUTE``; returns the maps it stores."""
     spec = SETUP["wdv"]
     names = obj.data.attributes.keys()
     areas = [a for a in spec["areas"] if a["directions"] in names and a["sizes"] in names]
     if not areas:
-        return [None] * n_maps
+        return set()
+    tree = bpy.data.node_groups.new("wrinkle vectors", "GeometryNodeTree")
+    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    nodes, links = tree.nodes, tree.links
+
+    def math(operation: str, a, b, x: float, y: float, clamp: bool = False):
+        return node_math(nodes, links, operation, a, b, (x, y), clamp)
+
     motion = face_motion(obj, nodes, links, math)
     length = vector("LENGTH", motion, None, nodes, links, (-1900.0, 1500.0), "Value")
-    strength = driven(nodes, obj, "technique 2 strength", "strength", {"strength": STRENGTH},
-                      (-1900.0, 1650.0))
-    out = [None] * n_maps
+    out = {}
     for k, area in enumerate(areas):
         x, y = -1800.0, 2000.0 + 400.0 * k
-        directions, _ = attribute(nodes, links, area["directions"], (x, y))
-        _, sizes = attribute(nodes, links, area["sizes"], (x, y - 200.0))
+        directions, _ = named(nodes, links, area["directions"], (x, y))
+        _, sizes = named(nodes, links, area["sizes"], (x, y - 200.0))
         unit = vector("NORMALIZE", directions, None, nodes, links, (x + 300, y))
         along = vector("DOT_PRODUCT", motion, unit, nodes, links, (x + 450, y), "Value")
         angle = math("ARCCOSINE", math("DIVIDE", along, length, x + 600, y), 0.0, x + 750, y)
@@ -234,28 +245,45 @@ def wdv_weights(obj, nodes, links, math, n_maps: int) -> list:
                  spec["expression_factor"], x + 1350, y, clamp=True)
         w = math("MULTIPLY", w, math("GREATER_THAN", cone, 0.0, x + 900, y - 300), x + 1500, y)
         m = area["map"]
-        out[m] = w if out[m] is None else math("MAXIMUM", out[m], w, x + 1650, y)
-    return [None if w is None else math("MULTIPLY", w, strength, -900.0, 1500.0 - 100 * m)
-            for m, w in enumerate(out)]
+        out[m] = w if m not in out else math("MAXIMUM", out[m], w, x + 1650, y)
+    geometry = nodes.new("NodeGroupInput").outputs[0]
+    for m, w in out.items():
+        store = nodes.new("GeometryNodeStoreNamedAttribute")
+        store.data_type, store.domain, store.location = "FLOAT", "POINT", (200.0, -200.0 * m)
+        store.inputs["Name"].default_value = T2_ATTRIBUTE.format(m)
+        links.new(geometry, store.inputs["Geometry"])
+        links.new(w, store.inputs["Value"])
+        geometry = store.outputs["Geometry"]
+    links.new(geometry, nodes.new("NodeGroupOutput").inputs[0])
+    obj.modifiers.new("wrinkle vectors", "NODES").node_group = tree
+    return set(out)
+
+
+def named(nodes, links, name: str, location):
+    """The mesh attribute ``name`` as a vector, and split into its three columns."""
+    node = nodes.new("GeometryNodeInputNamedAttribute")
+    node.data_type, node.location = "FLOAT_VECTOR", location
+    node.inputs["Name"].default_value = name
+    split = nodes.new("ShaderNodeSeparateXYZ")
+    split.location = (location[0] + 150.0, location[1])
+    links.new(node.outputs["Attribute"], split.inputs[0])
+    return node.outputs["Attribute"], split.outputs
 
 
 def face_motion(obj, nodes, links, math):
-    """The shading point's motion from the neutral face as the studio measures it, in the
-    glTF's axes (the direction attributes' and the studio's): the object-space position less
-    ``rest_position``, less each pose with an onset times the weight its onset holds back."""
-    geometry = nodes.new("ShaderNodeNewGeometry")
-    geometry.location = (-2600.0, 1500.0)
-    local = nodes.new("ShaderNodeVectorTransform")
-    local.vector_type, local.convert_from, local.convert_to = "POINT", "WORLD", "OBJECT"
-    local.location = (-2450.0, 1500.0)
-    links.new(geometry.outputs["Position"], local.inputs["Vector"])
-    rest, _ = attribute(nodes, links, "rest_position", (-2600.0, 1300.0))
-    motion = vector("SUBTRACT", local.outputs["Vector"], rest, nodes, links, (-2300.0, 1500.0))
+    """Each vertex's motion from the neutral face as the studio measures it, in the glTF's
+    axes (the direction attributes' and the studio's): its position less ``rest_position``,
+    less each pose with an onset times the weight its onset holds back."""
+    position = nodes.new("GeometryNodeInputPosition")
+    position.location = (-2600.0, 1500.0)
+    rest, _ = named(nodes, links, "rest_position", (-2600.0, 1300.0))
+    motion = vector("SUBTRACT", position.outputs["Position"], rest, nodes, links,
+                    (-2300.0, 1500.0))
     blocks = obj.data.shape_keys.key_blocks
     for k, held in enumerate(h for h in SETUP["wdv"]["held"] if h["pose"] in blocks):
         name = f"wrinkle_held_{k}"
         store_shape(obj, blocks[held["pose"]], name)
-        shape, _ = attribute(nodes, links, name, (-2600.0, 1100.0 - 200.0 * k))
+        shape, _ = named(nodes, links, name, (-2600.0, 1100.0 - 200.0 * k))
         factor = driven(nodes, obj, f"held back: {held['pose']}", held["term"].format(x="w"),
                         {"w": shape_key(held["pose"])}, (-2450.0, 1000.0 - 200.0 * k))
         back = vector("SCALE", shape, factor, nodes, links, (-2300.0, 1100.0 - 200.0 * k))
@@ -295,6 +323,18 @@ def not_face_gate(obj, nodes, links, math):
     split.location = (-850.0, 400.0)
     links.new(attribute.outputs["Vector"], split.inputs[0])
     return math("SUBTRACT", 1.0, split.outputs["XYZ"[spec["column"]]], -700.0, 400.0)
+
+
+def node_math(nodes, links, operation: str, a, b, location, clamp: bool = False):
+    """A Math node of ``a`` and ``b`` (sockets or numbers), in a material or a node group."""
+    node = nodes.new("ShaderNodeMath")
+    node.operation, node.use_clamp, node.location = operation, clamp, location
+    for socket, value in zip(node.inputs[:2], (a, b), strict=True):
+        if isinstance(value, float):
+            socket.default_value = value
+        else:
+            links.new(value, socket)
+    return node.outputs[0]
 
 
 def vector(operation: str, a, b, nodes, links, location, output: str = "Vector"):
