@@ -1,8 +1,8 @@
 """Technique 2 in stock Blender (bpy 4.5 LTS): the plain glTF export carries the Blender script,
-and run on it the script makes the wrinkle direction vectors drive the material (the motion
-from Blender's ``rest_position`` against each area's vectors and cone, read by attribute nodes),
-so that a brow raise wrinkles the forehead in a Cycles render where the studio's technique 2
-shows it, and nowhere it does not."""
+and run on it the script makes the wrinkle direction vectors drive the material (a Geometry
+Nodes modifier weighs the motion from Blender's ``rest_position`` against each area's vectors
+and cone, read by Named Attribute nodes, per vertex), so that a brow raise wrinkles the
+forehead in a Cycles render where the studio's technique 2 shows it, and nowhere it does not."""
 
 from __future__ import annotations
 

@@ -10,13 +10,15 @@ does. The object's custom property ``wrinkle_technique`` (1 or 2) chooses the we
 1. areas and links: each area's activation is a driver on the shape keys that link to it (its
    own value plus gain × response curve of each, clamped to 0…1); a map's weight is the sum of
    its areas' masks × activations (clamped).
-2. wrinkle direction vectors: the face's motion (its position less the ``rest_position``
-   Blender keeps from before the shape keys, less what the poses' onsets hold back: drivers on
-   those shape keys) against each area's direction, authored length and cone (the glTF's vertex
-   attributes): ``clamp(m · (1 − α/θ) · k, 0, 1)``, m the motion over the authored length, α its
-   angle to the direction, θ the cone, 0 outside it; a map's weight is the strongest of its
-   areas'. The studio works this out per vertex and interpolates the result; node math works it
-   out per shading point from the interpolated motion and vectors, the closest form it allows.
+2. wrinkle direction vectors: a Geometry Nodes modifier after the shape keys takes each
+   vertex's motion (its position less the ``rest_position`` Blender keeps from before the shape
+   keys, less what the poses' onsets hold back: drivers on those shape keys) against each
+   area's direction, authored length and cone (the glTF's vertex attributes, read by Named
+   Attribute nodes): ``clamp(m · (1 − α/θ) · k, 0, 1)``, m the motion over the authored length,
+   α its angle to the direction, θ the cone, 0 outside it; a map's weight is the strongest of
+   its areas', stored per vertex and read by the material's Attribute nodes, interpolated as the
+   studio's vertex shader's result is. (Per vertex, so EEVEE's limit of attributes per material
+   holds for any number of areas.)
 
 The drivers are simple expressions (min, max, arithmetic), so they run without Blender's
 "Auto Run Python Scripts". The object's custom property ``wrinkle_strength`` (0…1) scales every
