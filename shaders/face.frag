@@ -3,7 +3,9 @@
 // wrinkled shadings by the per-map wrinkle weights of the technique, plus the
 // debug views.
 // Defines: TECHNIQUE_{FLAT,NONE,T1,T2,STRAIN}; SKIN (the skin look of skin.glsl, lit by a rig,
-// instead of common.glsl's clay); T1_DIRECT (loop over every mask layer, the
+// instead of common.glsl's clay); SKIN_TONE (with SKIN, for a face whose wrinkled maps have
+// colour and cavity maps: blended by the same weights, the colour tints the albedo and the
+// cavity darkens diffuse, ambient and specular; studio/core/wrinkles/skin_tone.py); T1_DIRECT (loop over every mask layer, the
 // thesis's form, instead of the composed weight texture); BLEND_NORMALS (blend the normals and
 // light once, instead of the thesis's blend of shaded colours); RELIEF_PARALLAX (parallax
 // occlusion mapping of the wrinkles, below); RELIEF_DISPLACE needs nothing here (the
@@ -82,6 +84,22 @@ vec3 finish(vec3 albedo, vec3 dif, vec3 spe) {
 }
 #endif
 
+#ifdef SKIN_TONE
+uniform sampler2DArray u_tone;   // layer m: rgb wrinkled map m's colour, a its cavity
+
+// (tint, light kept): the neutral (no change) and each map's tone, blended by the weights
+vec4 blended_tone(vec4 w, float total, vec2 uv) {
+    vec4 tone = vec4(1.0 - total);
+    for (int m = 0; m < WRINKLE_MAPS; ++m) {
+        if (w[m] > 0.0) {
+            vec4 texel = texture(u_tone, vec3(uv, float(m)));
+            tone += w[m] * vec4(texel.rgb * (255.0 / 128.0), texel.a);
+        }
+    }
+    return tone;
+}
+#endif
+
 vec3 unpack_normal(vec2 xy) {
     vec2 n = xy * 2.0 - 1.0;
     return vec3(n, sqrt(max(1.0 - dot(n, n), 0.0)));
@@ -156,6 +174,10 @@ void main() {
     if (total > 0.0) uv = parallax_texcoord(uv, w, total, tbn, view_dir, uv_dx, uv_dy);
 #endif
     vec3 albedo = srgb_to_linear(texture(u_diffuse, uv).rgb);
+#ifdef SKIN_TONE
+    vec4 tone = blended_tone(w, total, uv);
+    albedo *= tone.rgb;
+#endif
     vec4 normals = texture(u_normals, uv);
     vec3 t_neutral = unpack_normal(normals.xy);
     vec3 n_neutral = normalize(tbn * t_neutral);
@@ -186,6 +208,9 @@ void main() {
     }
     vec3 colour = finish(albedo, dif, spe);
     vec3 n = normalize(n_sum);
+#endif
+#ifdef SKIN_TONE
+    colour *= tone.a;
 #endif
 #endif
     if (u_view_mode == 1 || u_view_mode == 4) {

@@ -71,3 +71,36 @@ def test_moving_the_shape_key_wrinkles_the_forehead_in_a_cycles_render(tmp_path)
     # centred on the forehead above the eyes (at about 0.55 of the height), on the face's left
     # (the picture's right: the inner brow reaches over the middle)
     assert rows.mean() < 0.42 * size and cols.mean() > 0.55 * size, (rows.mean(), cols.mean())
+
+
+def test_cavity_and_colour_flush_and_darken_the_wrinkles_in_a_cycles_render(tmp_path):
+    """Issue 46: the set-up's cavity and colour maps, written into the folder and blended by
+    the script with the same weights as the normals, make the wrinkled forehead redder and
+    darker than the same folder without them; with the shape key at 0 nothing changes."""
+    import copy
+
+    if importlib.util.find_spec("bpy") is None:
+        pytest.fail("bpy is not installed: run 'bash scripts/setup.sh test'")
+    toned = set_up_head()
+    assert toned.textures.has_tone  # new --auto made them with the furrows
+    plain = copy.deepcopy(toned)
+    plain.textures.cavity_maps.clear()
+    plain.textures.colour_maps.clear()
+    shots = {}
+    for name, project in (("toned", toned), ("plain", plain)):
+        export_folder(project, tmp_path / name)
+        sheet = json.loads((tmp_path / name / "wrinkles.json").read_text())
+        assert all(("cavity" in m) == (name == "toned") for m in sheet["wrinkle_maps"])
+        out = tmp_path / f"{name}_render"
+        done = subprocess.run([sys.executable, str(SCRIPT), str(tmp_path / name), JUDGED,
+                               str(out)], capture_output=True, text=True, timeout=600,
+                              check=False)
+        assert done.returncode == 0, done.stderr[-3000:]
+        shots[name] = {k: rendered(out, k) for k in ("pose1_on", "pose0_on")}
+    assert np.array_equal(shots["toned"]["pose0_on"], shots["plain"]["pose0_on"])
+    wrinkled = changed(shots["plain"]["pose1_on"], shots["plain"]["pose0_on"])
+    toned_px = shots["toned"]["pose1_on"][wrinkled].astype(float)
+    plain_px = shots["plain"]["pose1_on"][wrinkled].astype(float)
+    assert toned_px.sum(-1).mean() < plain_px.sum(-1).mean() - 3  # darker in the creases
+    red = [(px[:, 0] / np.maximum(px[:, 1], 1.0)).mean() for px in (toned_px, plain_px)]
+    assert red[0] > red[1] + 0.01, red  # and flushed

@@ -47,7 +47,7 @@ def cell_image(values: np.ndarray) -> np.ndarray:
 class Case:
     """The hand-built face and, per cell, what its pixels' inputs are."""
 
-    def __init__(self, seed: int) -> None:
+    def __init__(self, seed: int, tone: bool = True) -> None:
         rng = np.random.default_rng(seed)
         shape = (CELLS, CELLS)
         # normal maps: x, y well inside the unit disc (z > 0), some cells flat
@@ -67,12 +67,23 @@ class Case:
         self.project = grid_face({name: cell_image(m) for name, m in zip(
             MAPS, self.wrinkled, strict=True)}, neutral=cell_image(self.neutral),
             diffuse=cell_image(self.diffuse), cells=CELLS)
+        # each map's colour (around the unchanged 128) and cavity (open 255 to deep): issue 46
+        self.tone = np.stack([np.dstack([rng.integers(90, 170, (*shape, 3)),
+                                         rng.integers(110, 256, shape)]) for _ in MAPS]
+                             ).astype(np.uint8)
+        for name, cells in zip(MAPS, self.tone if tone else (), strict=False):
+            self.project.textures.set_tone(name, cell_image(cells[..., 3]),
+                                           cell_image(cells[..., :3]))
         self.project.influence.areas = [
             InfluenceArea(f"area {i}", cell_image(self.masks[i]), activation=float(a),
                           wrinkle_map=MAPS[m])
             for i, (a, m) in enumerate(zip(self.activations, self.area_maps, strict=True))]
         rest = self.project.mesh.rest
         self.project.not_face = rest[:, 0] < -0.6  # the vertex columns at x = -1 and -0.75
+
+    @property
+    def has_tone(self) -> bool:
+        return self.project.textures.has_tone
 
     def weights(self, t1_mode: str) -> np.ndarray:
         """(CELLS, CELLS, 4) technique 1's per-map weights: Σ mask · activation, clamped."""
@@ -125,7 +136,8 @@ def reference(case: Case, camera: OrbitCamera, settings: RenderSettings
         wrinkled=np.stack([m[rows, cols, :2] for m in case.wrinkled], -2) / 255.0,
         albedo=case.diffuse[rows, cols] / 255.0,
         tbn=np.broadcast_to(tbn, (PIXELS, PIXELS, 3, 3)),
-        view_pos=view_pos, texcoord=np.stack([u, 1 - v], -1))
+        view_pos=view_pos, texcoord=np.stack([u, 1 - v], -1),
+        tone=np.stack([t[rows, cols] for t in case.tone], -2) / 255.0 if case.has_tone else None)
     lighting = Lighting(settings.light_dir, settings.ambient, settings.specular,
                         settings.shininess)
     rig = light_rig(settings.light_rig, settings.light_dir) if settings.look == "skin" else None
@@ -137,7 +149,16 @@ def reference(case: Case, camera: OrbitCamera, settings: RenderSettings
 @pytest.fixture(scope="module")
 def rendered(gl_context):
     """Renders of one seeded face, drawn once per setting."""
-    case = Case(seed=28)
+    yield from renders(gl_context, Case(seed=28))
+
+
+@pytest.fixture(scope="module")
+def rendered_without_tone(gl_context):
+    """The same face without colour and cavity maps: a project made before issue 46."""
+    yield from renders(gl_context, Case(seed=28, tone=False))
+
+
+def renders(gl_context, case: Case):
     images: dict[RenderSettings, np.ndarray] = {}
     with OffscreenStudio(case.project, PIXELS, PIXELS, samples=0, ctx=gl_context) as studio:
         studio.camera = front_camera()
@@ -185,6 +206,21 @@ def test_the_skin_look_under_each_light_rig_is_the_reference(rendered, rig, blen
     draw, camera = rendered
     assert_matches(draw(technique="t1", look="skin", light_rig=rig, blend=blend,
                         light_dir=LIGHTS["grazing"]), camera)
+
+
+@pytest.mark.parametrize("blend", ["colour", "normal"])
+def test_a_face_without_colour_and_cavity_maps_draws_as_before(rendered_without_tone,
+                                                               rendered, blend):
+    """Issue 46: a project without them (an older file) is the reference without tone, and
+    the maps are what changes the face that has them (both in the skin look only)."""
+    settings = {"technique": "t1", "look": "skin", "blend": blend}
+    draw, camera = rendered_without_tone
+    plain = draw(**settings)
+    assert_matches(plain, camera)
+    toned = rendered[0](**settings)
+    assert np.abs(toned[2] - plain[2]).max() > 20
+    clay = {"technique": "t1", "blend": blend}
+    assert np.array_equal(draw(**clay)[2], rendered[0](**clay)[2])  # clay ignores them
 
 
 def test_no_wrinkles_is_the_reference_at_zero_weight(rendered):

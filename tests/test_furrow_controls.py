@@ -267,3 +267,30 @@ def _edit_json(path, edit) -> None:
     with zipfile.ZipFile(path, "w") as z:
         for name, data in members.items():
             z.writestr(name, data)
+
+
+def test_a_map_made_again_brings_its_cavity_with_it(synthesised):
+    """Issue 46: a map's cavity map (how deep each texel lies in a crease) follows its
+    furrows when a control makes them again, and comes back with them."""
+    from studio.core.setup.skin_tone_maps import add_tone_maps
+    from studio.core.wrinkles.skin_tone import cavity_map
+
+    project, made = synthesised
+    project = _copy(project)
+    add_tone_maps(project, made)
+    before = dict(project.textures.cavity_maps)
+    colour = dict(project.textures.colour_maps)
+    maps = FurrowMaps()
+    maps.adopt(project)
+    project.furrows = project.furrows.with_controls("Forehead_Raise",
+                                                    FurrowControls(sharpness=3.0))
+    mine = next(n for n, poses in made.items() if "Forehead_Raise" in poses)
+    assert maps.remake(project, list(project.furrows.maps)) == [mine]
+    cavity = project.textures.cavity_maps[mine]
+    assert not np.array_equal(cavity, before[mine])
+    assert np.array_equal(cavity, cavity_map(project.textures.normal_neutral,
+                                             project.textures.wrinkle_maps[mine]))
+    assert project.textures.colour_maps[mine] is colour[mine]  # the strain did not change
+    project.furrows = project.furrows.with_controls("Forehead_Raise", FurrowControls())
+    maps.remake(project, list(project.furrows.maps))
+    assert np.array_equal(project.textures.cavity_maps[mine], before[mine])

@@ -5,7 +5,9 @@ model beside it if no mesh with the face's shape keys is in the scene).
 It rebuilds the face's material so that moving a shape key shows its wrinkles in the viewport
 and in renders (Cycles and EEVEE): the normal map is the neutral map blended with the wrinkled
 maps by one weight per wrinkled map (scaled down where they add past 1), as the studio's shader
-does. The object's custom property ``wrinkle_technique`` (1 or 2) chooses the weights:
+does; where the export wrote a wrinkled map's cavity and colour maps, they are blended by the
+same weights and tint and darken the base colour (the cavity the specular too), as the studio's
+skin look does. The object's custom property ``wrinkle_technique`` (1 or 2) chooses the weights:
 
 1. areas and links: each area's activation is a driver on the shape keys that link to it (its
    own value plus gain × response curve of each, clamped to 0…1); a map's weight is the sum of
@@ -171,6 +173,50 @@ def build(obj) -> None:
                       (150.0, -200.0 - 150 * m))
         colour = vector("ADD", colour, part, nodes, links, (300.0, 150.0 * m))
     links.new(colour, normal_map.inputs["Color"])
+    tone(nodes, links, bsdf, [(m, math("MULTIPLY", w, scale, 0.0, -900.0 - 150 * m))
+                              for m, w in used], rest, math, texture)
+
+
+def tone(nodes, links, bsdf, shares, rest, math, texture) -> None:
+    """Each wrinkled map's cavity and colour maps (where the export wrote them), blended by
+    the same shares as its normals: the colour (value / 128) tints the base colour, the cavity
+    (255 open skin) darkens it and the specular, as the studio's skin look does
+    (core/wrinkles/skin_tone.py). Nothing changes where every weight is 0."""
+    maps = SETUP["wrinkle_maps"]
+    shares = [(m, share) for m, share in shares if "cavity" in maps[m] or "colour" in maps[m]]
+    if not shares:
+        return
+    ones = nodes.new("ShaderNodeCombineXYZ")
+    ones.location = (-700.0, -1600.0)
+    for socket in ones.inputs:
+        socket.default_value = 1.0
+    tint = vector("SCALE", ones.outputs[0], rest, nodes, links, (450.0, -1600.0))
+    kept = rest
+    for m, share in shares:
+        y = -1800.0 - 300 * m
+        spec = maps[m].get("colour")
+        colour = (texture(image(spec["image"], spec["file"]), -700.0, y).outputs["Color"]
+                  if spec else ones.outputs[0])
+        scaled = math("MULTIPLY", share, 255.0 / 128.0 if spec else 1.0, 300.0, y)
+        tint = vector("ADD", tint, vector("SCALE", colour, scaled, nodes, links, (450.0, y)),
+                      nodes, links, (600.0, y))
+        spec = maps[m].get("cavity")
+        cavity = (texture(image(spec["image"], spec["file"]), -700.0, y - 150).outputs["Color"]
+                  if spec else 1.0)
+        kept = math("ADD", kept, math("MULTIPLY", share, cavity, 300.0, y - 150), 600.0, y - 150)
+    base = bsdf.inputs["Base Color"]
+    if base.links:
+        albedo = base.links[0].from_socket
+    else:
+        rgb = nodes.new("ShaderNodeRGB")
+        rgb.outputs[0].default_value = base.default_value
+        rgb.location, albedo = (600.0, -1400.0), rgb.outputs[0]
+    toned = vector("MULTIPLY", albedo, tint, nodes, links, (750.0, -1400.0))
+    links.new(vector("SCALE", toned, kept, nodes, links, (900.0, -1400.0)), base)
+    specular = bsdf.inputs.get("Specular IOR Level") or bsdf.inputs.get("Specular")
+    if specular is not None:
+        level = specular.links[0].from_socket if specular.links else specular.default_value
+        links.new(math("MULTIPLY", level, kept, 900.0, -1600.0), specular)
 
 
 def choose_technique(obj, nodes, math, t1: list, t2: list) -> list:

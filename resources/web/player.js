@@ -6,7 +6,7 @@
 'use strict';
 
 const TECHNIQUES = { none: 'Off', t1: 'Technique 1 (areas)', t2: 'Technique 2 (WDV)' };
-const UNIT = { diffuse: 0, normals: 1, more_maps: 2, masks: 3, activations: 4 };
+const UNIT = { diffuse: 0, normals: 1, more_maps: 2, masks: 3, activations: 4, tone: 5 };
 
 function say(text) {
   document.getElementById('message').textContent = text;
@@ -138,7 +138,8 @@ function textureArray(gl, image, format) {
   const tex = gl.createTexture();
   gl.bindTexture(gl.TEXTURE_2D_ARRAY, tex);
   gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-  const [inner, outer] = format === 'rg' ? [gl.RG8, gl.RG] : [gl.R8, gl.RED];
+  const [inner, outer] = { rg: [gl.RG8, gl.RG], r: [gl.R8, gl.RED],
+    rgba: [gl.RGBA8, gl.RGBA] }[format];
   gl.texImage3D(gl.TEXTURE_2D_ARRAY, 0, inner, w, h, n, 0, outer, gl.UNSIGNED_BYTE, image.data);
   gl.generateMipmap(gl.TEXTURE_2D_ARRAY);
   gl.texParameteri(gl.TEXTURE_2D_ARRAY, gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR);
@@ -227,6 +228,9 @@ class Player {
     this.camera = { ...scene.camera };
     const maps = `WRINKLE_MAPS ${scene.wrinkle_maps}`;
     const blend = scene.look.blend === 'normal' ? ['BLEND_NORMALS'] : [];
+    // the skin look (skin.glsl) under the studio's rig, with each wrinkled map's cavity and
+    // colour where the face has them; clay otherwise
+    if (scene.look.rig) blend.push('SKIN', ...(scene.look.tone ? ['SKIN_TONE'] : []));
     this.programs = {
       none: compile(gl, files, ['TECHNIQUE_NONE', ...blend, maps]),
       t1: compile(gl, files, ['TECHNIQUE_T1', 'T1_DIRECT', ...blend, maps]),
@@ -239,6 +243,9 @@ class Player {
       [UNIT.more_maps, gl.TEXTURE_2D_ARRAY, textureArray(gl, arrays.more_maps, 'rg')],
       [UNIT.masks, gl.TEXTURE_2D_ARRAY, textureArray(gl, arrays.masks, 'r')],
     ];
+    if (arrays.tone) {
+      this.textures.push([UNIT.tone, gl.TEXTURE_2D_ARRAY, textureArray(gl, arrays.tone, 'rgba')]);
+    }
     this.activationTexture = gl.createTexture();
     this.textures.push([UNIT.activations, gl.TEXTURE_2D, this.activationTexture]);
     this.buildBuffers(arrays);
@@ -332,6 +339,11 @@ class Player {
     set('u_ambient', gl.uniform1f, look.ambient);
     set('u_specular', gl.uniform1f, look.specular);
     set('u_shininess', gl.uniform1f, look.shininess);
+    if (look.rig) {
+      set('u_rig_dir', gl.uniform3fv, look.rig.directions.flat());
+      set('u_rig_colour', gl.uniform3fv, look.rig.colours.flat());
+      set('u_rig_ambient', gl.uniform3fv, look.rig.ambient);
+    }
     set('u_view_mode', gl.uniform1i, 0);
     set('u_expression', gl.uniform1f, this.scene.wdv.expression_factor);
     set('u_scale_free', gl.uniform1i, this.scene.wdv.scale_free ? 1 : 0);

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from studio.commands.options import add_look_options
 from studio.core.engines.layouts import LAYOUTS
 
 if TYPE_CHECKING:
@@ -27,6 +28,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                              "techniques in any browser, offline (?pose=NAME&weight=W&"
                              "technique=none|t1|t2 links to a pose)")
     p.add_argument("--bits", type=int, choices=(8, 16), default=16, help="per-area mask depth")
+    add_look_options(p)  # the web page's
     p.add_argument("--layout", choices=list(LAYOUTS),
                    help="with --folder: repack masks and wrinkle maps the way that engine's "
                         "shader samples them, with a JSON sheet of its names (see "
@@ -115,16 +117,16 @@ def run_web(args: argparse.Namespace) -> int:
     camera = OrbitCamera.from_dict(project.view.get("camera", {}))
     aim(camera, project, "face")
     camera.yaw = 0.0
-    files = export_web(project, args.web, camera, web_look())
+    files = export_web(project, args.web, camera, web_look(args.look, args.light_rig))
     size = sum(f.stat().st_size for f in files)
     print(f"wrote {files[0]} ({size / 1e6:.1f} MB; open it in a browser, no network needed)")
     return 0
 
 
-def web_look() -> WebLook:
-    """The light, blend and tangent frame ``render`` draws with (its default view), for the
-    web page."""
+def web_look(look: str = "clay", light_rig: str = "studio") -> WebLook:
+    """The light, blend and tangent frame ``render`` draws with (its default view, in this
+    look), for the web page."""
     from studio.core.project.view_settings import ViewSettings
     from studio.render.settings import web_look as look_of
 
-    return look_of(ViewSettings())
+    return look_of(ViewSettings(look=look, light_rig=light_rig))

@@ -53,3 +53,16 @@ def load_project_or_sample(path: str | None, vertices: int | None):
     if vertices:
         raise StudioError("--vertices applies to the bundled sample, not to a project file")
     return load_project(Path(path))
+
+
+def add_look_options(p: argparse.ArgumentParser) -> None:
+    """``--look`` and ``--light-rig``: how ``render`` and the web page shade the face."""
+    from studio.core.wrinkles.skin_light import LOOKS, RIG_LABELS, RIG_NAMES
+
+    p.add_argument("--look", choices=LOOKS, default="clay",
+                   help="clay: the first shading; skin: a skin shader (scattering diffuse, two "
+                        "specular lobes, the head's albedo, each wrinkled map's cavity and "
+                        "colour) under the light rig")
+    p.add_argument("--light-rig", choices=RIG_NAMES, default="studio",
+                   help="the skin look's lights: " + "; ".join(
+                       f"{k}: {v}" for k, v in RIG_LABELS.items()))

@@ -6,7 +6,12 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
-from studio.commands.options import load_project_or_sample, parse_size, parse_vertices
+from studio.commands.options import (
+    add_look_options,
+    load_project_or_sample,
+    parse_size,
+    parse_vertices,
+)
 from studio.core.files import atomic_write, safe_io
 from studio.core.files.errors import StudioError
 from studio.core.files.input_checks import finite_float
@@ -15,7 +20,6 @@ from studio.core.project.model import Project
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.core.setup.face_frame import aim, parse_axis
 from studio.core.wrinkles.relief import suggested_relief_depth
-from studio.core.wrinkles.skin_light import LOOKS, RIG_LABELS, RIG_NAMES
 from studio.core.wrinkles.techniques import TECHNIQUES
 from studio.render.animation import (
     AnimationWriter,
@@ -73,12 +77,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="debug view (heat: the wrinkle weight; heat-shows: the weight times how "
                         "much the revealed wrinkled map differs from the neutral one)")
     p.add_argument("--wireframe", action="store_true", help="draw the triangle edges on top")
-    p.add_argument("--look", choices=LOOKS, default="clay",
-                   help="clay: the first shading; skin: a skin shader (scattering diffuse, two "
-                        "specular lobes, the head's albedo) under the light rig")
-    p.add_argument("--light-rig", choices=RIG_NAMES, default="studio",
-                   help="the skin look's lights: " + "; ".join(
-                       f"{k}: {v}" for k, v in RIG_LABELS.items()))
+    add_look_options(p)
     p.add_argument("--blend", choices=BLENDS, default="colour",
                    help="mix two shaded colours (the thesis) or the two normals (light once)")
     p.add_argument("--relief", choices=RELIEFS, default="off",

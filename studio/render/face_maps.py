@@ -1,6 +1,7 @@
 """The face's texture maps on the GPU: diffuse, the neutral and first wrinkled normal maps packed
-into one texture (one fetch blends them), and any further wrinkled maps in an array read only
-where they show."""
+into one texture (one fetch blends them), any further wrinkled maps in an array read only
+where they show, and, for a face that has them, each wrinkled map's colour and cavity
+(skin_tone.py) in one more array, a layer per map."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import moderngl
 import numpy as np
 
 from studio.core.files.errors import RenderError
+from studio.core.wrinkles.skin_tone import pack_tone
 from studio.core.wrinkles.textures import FaceTextures, pack_more_maps, pack_normal_maps
 from studio.render.gl_info import ANISOTROPY
 from studio.render.programs import UNITS
@@ -41,6 +43,7 @@ class FaceMaps:
         self.anisotropy = anisotropy
         self.textures: dict[str, moderngl.Texture | moderngl.TextureArray] = {}
         self.map_count = 1  # wrinkled maps of the current textures (compiled into the program)
+        self.has_tone = False  # whether any has a colour or cavity map (the "tone" array)
 
     def set_textures(self, textures: FaceTextures) -> None:
         named = {"diffuse": textures.diffuse, "neutral normal": textures.normal_neutral,
@@ -53,6 +56,8 @@ class FaceMaps:
             normals = pack_normal_maps(textures.normal_neutral, textures.normal_wrinkled)
             images = {"diffuse": textures.diffuse, "normals": normals,
                       "more_maps": pack_more_maps(textures, normals)}
+            if textures.has_tone:
+                images["tone"] = pack_tone(textures)
             self.ctx.error  # noqa: B018 - reading it clears an earlier, unrelated error flag
             for name, image in images.items():
                 created[name] = tex = self._texture(image)
@@ -70,12 +75,14 @@ class FaceMaps:
             size = "×".join(str(v) for v in textures.diffuse.shape[1::-1])
             raise RenderError(f"the GPU cannot hold the texture maps ({size} pixels; "
                               f"{exc or type(exc).__name__}); use smaller maps") from None
-        for name, tex in created.items():
+        for name in {*created, "tone"}:
             old = self.textures.pop(name, None)
             if old is not None:
                 old.release()
-            self.textures[name] = tex
+            if name in created:
+                self.textures[name] = created[name]
         self.map_count = len(textures.wrinkle_maps)
+        self.has_tone = "tone" in created
 
     def _texture(self, image: np.ndarray) -> moderngl.Texture | moderngl.TextureArray:
         if image.ndim == 4:  # layers of a texture array

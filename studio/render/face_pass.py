@@ -157,6 +157,8 @@ class FacePass:
                  viewport: Viewport) -> tuple[str, ...]:
         """The face program for ``settings``, its uniforms set; returns its key."""
         key = (*settings.program_key(), f"WRINKLE_MAPS {self.maps.map_count}")
+        if self.maps.has_tone and settings.look == "skin":  # clay shows the normals alone
+            key = (*key, "SKIN_TONE")
         prog = self.programs.get(key)
         write_matrix(prog, "u_view", view)
         write_matrix(prog, "u_proj", proj)

@@ -8,8 +8,8 @@ import moderngl
 from studio.render.shaders import build_program
 
 UNITS = {"diffuse": 0, "normals": 1, "masks": 2, "activations": 3, "t1_weight": 4,
-         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7, "relief": 8,
-         "deform": 9}  # the GPU deformation's data textures: 9 and on (gpu_deform.DATA_UNITS)
+         "t1_index": 5, "t1_slot_weight": 6, "more_maps": 7, "relief": 8, "tone": 9,
+         "deform": 10}  # the GPU deformation's data textures: 10 and on (gpu_deform.DATA_UNITS)
 
 # the helper passes' programs; any other key is the face program with those #defines
 _HELPERS = {("wire",): ("wire.vert", "wire.frag"),

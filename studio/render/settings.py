@@ -10,7 +10,7 @@ from studio.core.formats.web_export import WebLook
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME, TANGENT_FRAMES
 from studio.core.project.view_settings import BLENDS, DEBUG_VIEWS, RELIEFS, ViewSettings
 from studio.core.wrinkles.relief import DEFAULT_RELIEF_DEPTH
-from studio.core.wrinkles.skin_light import LOOKS, RIG_NAMES
+from studio.core.wrinkles.skin_light import LOOKS, RIG_NAMES, light_rig
 from studio.core.wrinkles.strain import DEFAULT_FULL_AT
 from studio.core.wrinkles.techniques import TECHNIQUES, WRINKLE_TECHNIQUES, shader_define
 
@@ -87,7 +87,8 @@ def web_look(view: ViewSettings) -> WebLook:
     writer cannot read the renderer's settings): the command line's default view, or the
     studio's own when the page is exported from its window, so the page shows what was seen."""
     settings = render_settings(view)
+    rig = light_rig(settings.light_rig, settings.light_dir) if settings.look == "skin" else None
     return WebLook(light_dir=settings.light_dir, ambient=settings.ambient,
                    specular=settings.specular, shininess=settings.shininess,
                    background=settings.background, blend=settings.blend,
-                   tangent_frame=settings.tangent_frame)
+                   tangent_frame=settings.tangent_frame, rig=rig)

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterable, Sequence
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from studio.core.engines.layouts import CHANNELS, MODEL_FILE
 from studio.core.engines.plan import MapSlot, MaskTexture, Plan, linked_poses, plan_export
+from studio.core.engines.tone_maps import tone_images
 from studio.core.files.atomic_write import write_atomic
 from studio.core.files.images import write_image
 from studio.core.files.safe_io import check_output
@@ -81,6 +83,9 @@ def _write_engine(project: Project, plan: Plan, folder: Path,
         written += _write_tiled(project, folder / texture.file, mask_texture(project, texture))
     for slot in plan.maps:
         written += _write_tiled(project, folder / slot.file, map_image(project, slot))
+        for path, image in tone_images(project, plan.layout.key, slot.file, partial(
+                slot_image, project, slot)):
+            written += _write_tiled(project, folder / path, image)
     if plan.flexes:  # VertexLitGeneric's $compress and $stretch: the skin's own colour
         for name in ("compress", "stretch"):
             written += _write_tiled(project, folder / "maps" / f"{name}.png",
@@ -121,18 +126,27 @@ def map_image(project: Project, slot: MapSlot) -> Array:
     areas reveal several — each texel from the map of the area strongest there (the neutral
     map where none reaches), so each area still shows its own wrinkles."""
     textures = project.textures
+    return slot_image(project, slot, textures.wrinkle_maps, textures.normal_neutral)
+
+
+def slot_image(project: Project, slot: MapSlot, images: dict[str, Array],
+               neutral: Array) -> Array:
+    """What a slot gets of one kind of per-map image (``images`` by project map; ``neutral``
+    where a map has none, or no area reaches): ``map_image``'s rule, shared by the normal maps
+    and their cavity and colour maps (engines/tone_maps.py)."""
+    textures = project.textures
     if slot.source is not None:
-        return textures.wrinkle_maps[slot.source]
+        return images.get(slot.source, neutral)
     areas = [project.influence.areas[i] for i in slot.areas]
     names = [textures.wrinkle_map_names[textures.map_index(a.wrinkle_map)] for a in areas]
     if not names:
-        return textures.normal_neutral
+        return neutral
     if len(set(names)) == 1:
-        return textures.wrinkle_maps[names[0]]
-    images = [textures.normal_neutral, *(textures.wrinkle_maps[n] for n in names)]
-    h = max(im.shape[0] for im in images)
-    w = max(im.shape[1] for im in images)
-    wide = np.uint16 if any(im.dtype == np.uint16 for im in images) else np.uint8
+        return images.get(names[0], neutral)
+    chosen = [neutral, *(images.get(n, neutral) for n in names)]
+    h = max(im.shape[0] for im in chosen)
+    w = max(im.shape[1] for im in chosen)
+    wide = np.uint16 if any(im.dtype == np.uint16 for im in chosen) else np.uint8
 
     def fit(image: Array) -> Array:
         image = resize_nearest(image, h, w) if image.shape[:2] != (h, w) else image
@@ -141,7 +155,7 @@ def map_image(project: Project, slot: MapSlot) -> Array:
 
     strength = np.stack([resize_nearest(a.mask, h, w) for a in areas])
     choice = np.where(strength.max(axis=0) > 0, strength.argmax(axis=0) + 1, 0)
-    stack = np.stack([fit(im) for im in images])
+    stack = np.stack([fit(im) for im in chosen])
     return stack[choice, np.arange(h)[:, None], np.arange(w)[None, :]]
 
 

@@ -18,7 +18,7 @@ from itertools import pairwise
 from pathlib import Path
 
 from studio.core.files.atomic_write import write_atomic
-from studio.core.formats.gltf.codec import VERTEX_DATA, image_names, wdv_attributes
+from studio.core.formats.gltf_names import VERTEX_DATA, image_names, wdv_attributes
 from studio.core.project.model import Project
 from studio.core.project.view_settings import saved_view
 from studio.core.wrinkles.response import ResponseCurve, curve_of
@@ -29,16 +29,17 @@ PLACEHOLDER = 'SETUP = json.loads("{}")'
 SCRIPT = "blender_wrinkles.py"
 
 
-def blender_setup(project: Project, model: str, mask_files: list[str | None] | None = None,
-                  map_files: list[str | None] | None = None,
-                  neutral_file: str | None = None) -> dict:
+def blender_setup(project: Project, model: str, mask_files: list[str] | None = None,
+                  map_files: list[dict] | None = None, neutral_file: str | None = None) -> dict:
     """What the script needs of the face: the model and image files relative to the export
     folder (used where the imported model lacks an image of the name; None beside a plain
-    glTF, whose images are all inside it)."""
+    glTF, whose images are all inside it). ``map_files``: each wrinkled map's ``image`` file
+    and, where it has them, its ``cavity`` and ``colour`` files (the glTF holds neither: found
+    by file)."""
     influence, textures = project.influence, project.textures
     map_images, mask_images = image_names(project)
     mask_files = mask_files or [None] * len(mask_images)
-    map_files = map_files or [None] * len(map_images)
+    map_files = map_files or [{"image": None}] * len(map_images)
     areas = []
     for area, image, file in zip(influence.areas, mask_images, mask_files, strict=True):
         links = [{"pose": pose, "term": link_term(
@@ -52,9 +53,11 @@ def blender_setup(project: Project, model: str, mask_files: list[str | None] | N
     return {"model": model,
             "poses": sorted({link["pose"] for a in areas for link in a["links"]}),
             "neutral": {"image": "normal_neutral", "file": neutral_file},
-            "wrinkle_maps": [{"name": name, "image": image, "file": file}
-                             for name, image, file in zip(textures.wrinkle_map_names,
-                                                          map_images, map_files, strict=True)],
+            "wrinkle_maps": [{"name": name, "image": image, "file": files["image"],
+                              **{kind: {"image": Path(files[kind]).stem, "file": files[kind]}
+                                 for kind in ("cavity", "colour") if kind in files}}
+                             for name, image, files in zip(textures.wrinkle_map_names,
+                                                           map_images, map_files, strict=True)],
             "areas": areas,
             # the parts never wrinkled: column 1 of the glTF's per-vertex data
             **({"not_face": {"attribute": VERTEX_DATA, "column": 1}}

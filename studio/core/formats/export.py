@@ -110,12 +110,17 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
         write_png(path, image)
         written += [path, *tile_copies(project, path, image)]
         maps.append({"name": name, "index": i, "image": f"maps/{path.name}"})
+        for kind, tone in (("cavity", textures.cavity_maps), ("colour", textures.colour_maps)):
+            if name in tone:  # how deep in a crease (255 open) / the albedo's tint (128: none)
+                path = folder / "maps" / f"{kind}_{i}_{safe_name(name)}.png"
+                write_png(path, tone[name])
+                written += [path, *tile_copies(project, path, tone[name])]
+                maps[-1][kind] = f"maps/{path.name}"
     path = folder / "maps" / "neutral.png"
     write_png(path, textures.normal_neutral)
     written.append(path)
     path = folder / SCRIPT  # technique 1 in Blender, driven by the shape keys
-    setup = blender_setup(project, written[0].name, mask_files, [m["image"] for m in maps],
-                          "maps/neutral.png")
+    setup = blender_setup(project, written[0].name, mask_files, maps, "maps/neutral.png")
     write_atomic(path, blender_script(setup), what="Blender script")
     written.append(path)
     links = {

@@ -45,6 +45,8 @@ from studio.core.formats.player_data import t1_arrays, t1_links, vertex_arrays
 from studio.core.mesh.camera import OrbitCamera
 from studio.core.mesh.geometry import DeformCache
 from studio.core.project.model import Project
+from studio.core.wrinkles.skin_light import Rig
+from studio.core.wrinkles.skin_tone import pack_tone
 from studio.core.wrinkles.textures import pack_more_maps, pack_normal_maps
 from studio.paths import resource_dir, shader_dir
 
@@ -66,6 +68,7 @@ class WebLook:
     background: tuple[float, float, float]
     blend: str
     tangent_frame: str
+    rig: Rig | None = None  # the skin look's lights (skin_light.py); None: clay
 
 
 class _Blob:
@@ -171,6 +174,9 @@ def web_scene(project: Project, camera: OrbitCamera, look: WebLook) -> tuple[dic
     blob.add("normals", as_rgba8(normals))
     more = pack_more_maps(textures, normals)  # x and y only: the page's RG8 array
     blob.add("more_maps", (more >> 8).astype(np.uint8) if more.dtype == np.uint16 else more)
+    tone = look.rig is not None and textures.has_tone  # clay shows neither, as in the studio
+    if tone:
+        blob.add("tone", pack_tone(textures))
     masks = project.influence.mask_stack()
     blob.add("masks", quantise(masks) if len(masks) else np.zeros((1, 1, 1), np.uint8))
     scene = {
@@ -183,7 +189,12 @@ def web_scene(project: Project, camera: OrbitCamera, look: WebLook) -> tuple[dic
         "camera": camera_data(camera),
         "look": {"light_dir": list(look.light_dir), "ambient": look.ambient,
                  "specular": look.specular, "shininess": look.shininess,
-                 "background": list(look.background), "blend": look.blend},
+                 "background": list(look.background), "blend": look.blend,
+                 "rig": None if look.rig is None else {
+                     "directions": [list(d) for d in look.rig.directions],
+                     "colours": [list(c) for c in look.rig.colours],
+                     "ambient": list(look.rig.ambient)},
+                 "tone": tone},
         "timeline": timeline_data(project),
         "arrays": blob.index,
     }

@@ -51,6 +51,7 @@ from studio.core.project.schema import (
     check_project,
     image_size,
     pose_member,
+    tone_member,
     wrinkled_member,
 )
 from studio.core.wrinkles.furrow_controls import FurrowSettings
@@ -404,7 +405,17 @@ class _Loader:
         maps = {names[0]: first}
         for i, map_name in enumerate(names[1:], start=1):
             maps[map_name] = self.image(wrinkled_member(i), f"wrinkled map '{map_name}'", False)
-        return FaceTextures(diffuse, neutral, wrinkle_maps=maps)
+        textures = FaceTextures(diffuse, neutral, wrinkle_maps=maps)
+        for i, map_name in enumerate(names):
+            cavity, colour = (self.image(member, f"the {kind} map of '{map_name}'",
+                                         kind == "cavity") if member in self.sizes else None
+                              for kind in ("cavity", "colour")
+                              for member in [tone_member(kind, i)])
+            try:
+                textures.set_tone(map_name, cavity, colour)
+            except StudioError as exc:
+                self.fail(exc.problem)
+        return textures
 
     def furrows(self, doc: Any) -> FurrowSettings:
         try:

@@ -15,6 +15,11 @@ Layout (every name relative to the archive root)::
     textures/normal_neutral.png  RGB PNG, 8 or 16 bits
     textures/normal_wrinkled.png RGB PNG, 8 or 16 bits: the first wrinkled map
     textures/wrinkled_NN.png     RGB PNG: wrinkled map NN (1, 2, 3) when there are several
+    textures/cavity_NN.png       8-bit greyscale PNG: wrinkled map NN's cavity (0, 1, 2, 3;
+                                 255 open skin, darker deeper in a crease); optional
+    textures/colour_NN.png       8-bit RGB PNG: wrinkled map NN's colour (value / 128 tints the
+                                 albedo); optional. Both found by name, so a file without them
+                                 (an older one) reads as before (core/wrinkles/skin_tone.py)
     mesh/not_face.npy            (W,)   bool     vertices never wrinkled (eyes, teeth); optional
     mesh/vertex_tile.npy         (V,)   int16    UDIM tile (index into uv_tiles.tiles); optional
     masks/NN_<area>.png          16-bit greyscale PNG, value / 65535 = influence (all one size)
@@ -130,6 +135,11 @@ MESH_ARRAYS = {  # member -> dtype, shape in terms of the counts in project.json
 
 def wrinkled_member(index: int) -> str:
     return f"textures/wrinkled_{index:02d}.png"
+
+
+def tone_member(kind: str, index: int) -> str:
+    """``kind``: "cavity" or "colour" of wrinkled map ``index`` (from 0)."""
+    return f"textures/{kind}_{index:02d}.png"
 
 
 def cones_member(index: int) -> str:

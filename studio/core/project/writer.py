@@ -41,6 +41,7 @@ from studio.core.project.schema import (
     cones_member,
     mask_member,
     pose_member,
+    tone_member,
     wrinkled_member,
 )
 from studio.core.wrinkles.response import curves_to_dict
@@ -157,6 +158,11 @@ def _members(project: Project,
         yield f"textures/{key}.png", encode_png, getattr(project.textures, key)
     for i, image in enumerate(list(project.textures.wrinkle_maps.values())[1:], start=1):
         yield wrinkled_member(i), encode_png, image
+    for i, name in enumerate(project.textures.wrinkle_map_names):
+        for kind, maps in (("cavity", project.textures.cavity_maps),
+                           ("colour", project.textures.colour_maps)):
+            if name in maps:
+                yield tone_member(kind, i), encode_png, maps[name]
     written = set()  # masks shared by several areas are stored once
     for area, member in zip(project.influence.areas,
                             mask_members(project.influence.areas, mask_member), strict=True):

@@ -79,6 +79,7 @@ GLABELLA_FADE = 0.08  # … fading in over this much at their bottom …
 GLABELLA_TAPER = 0.6  # … and tapering out over this share of their length below their top:
 # deepest low, where the corrugators pull the brows together, shallow as they rise …
 GLABELLA_DROP = 0.1  # … which lies this much lower (face y) per inner brows' half gap out
+GLABELLA_TIP = 0.4  # the lines narrowing to this share of their width where they fade
 FACE_TOP = 0.95  # furrows end at the top of the face box (the skin the poses deform) …
 TOP_FADE = 0.1  # … fading out over this much below it (shares of its half height)
 FACING = -0.62  # glabellar lines lie on skin facing forward (face z): the face, not the scalp
@@ -105,6 +106,8 @@ FAN_ANGLES = (-68.0, 50.0)  # degrees from straight outward (up positive): the f
 FAN_EDGE = 10.0  # … fading over this much …
 FAN_SPACING = 25.0  # … a line every this many degrees, …
 FAN_FIRST = -60.0  # … the lowest here, …
+FAN_HUB_BACK = 0.12  # … radiating from this far behind the corner (toward the eye's middle) …
+FAN_HUB_SPACING = 15.0  # … a line every this many degrees around that point
 GLABELLA_GAIN = 1.3  # the glabellar lines as deep as PLACED_GAIN (1.8 saturated their walls:
 # slots with square ends, however they tapered) …
 FAN_GAIN = 0.6  # … crow's feet shallower (1.5 drew claws): few, fine lines
@@ -294,11 +297,13 @@ def glabella(x: Array, y: Array, z: Array, midline: float, bottom: float = BOTTO
     facing = smoothstep(FACING - 0.08, FACING + 0.08, z)
     top = min(max(top, start + GLABELLA_SHORTEST), GLABELLA_TOP)
     end = top - GLABELLA_DROP * across
-    vertical = (smoothstep(SIDE_END, SIDE_FULL, across)
-                * smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
-                * smoothstep(end, end - GLABELLA_TAPER * (top - start), y))
+    along = (smoothstep(start - GLABELLA_FADE, start + GLABELLA_FADE, y)
+             * smoothstep(end, end - GLABELLA_TAPER * (top - start), y))
+    vertical = smoothstep(SIDE_END, SIDE_FULL, across) * along
     rise = np.clip((y - start) / max(top - start, 1e-6), 0.0, 1.0)
-    width = LINE_WIDTH * (ONE_SIDED_WIDTH if len(sides) == 1 else 1.0)
+    # each line narrowing as it fades toward its ends, as a fold does: a spindle, not a slot
+    width = (LINE_WIDTH * (ONE_SIDED_WIDTH if len(sides) == 1 else 1.0)
+             * (GLABELLA_TIP + (1.0 - GLABELLA_TIP) * np.sqrt(along)))
     phase = _one_valley((across - LINE_OFFSET * (1.0 + LINE_SPLAY * rise)) / width)
     phase = phase + LINE_NARROW * np.sin(phase)
     if nose:
@@ -336,7 +341,10 @@ def crows_feet(x: Array, y: Array, z: Array, midline: float,
               * smoothstep(low - FAN_EDGE, low + FAN_EDGE, angle)
               * smoothstep(high + FAN_EDGE, high - FAN_EDGE, angle)
               * np.isin(side, sides))
-    phase = 2.0 * np.pi * (angle - FAN_FIRST) / FAN_SPACING
+    # the lines lie across the orbicularis' ring, radiating from behind the corner (toward
+    # the eye's middle), not from the corner itself: they start spread along it, no hub
+    hub = np.degrees(np.arctan2(dy, dx + FAN_HUB_BACK))
+    phase = 2.0 * np.pi * (hub - FAN_FIRST) / FAN_HUB_SPACING
     lids, lid_phase, near = lower_lid_lines(side * (x - midline), y, LID_ANGLES, LID_GAIN)
     lids = lids * np.isin(side, sides)
     phase = np.where(near & ~(window > 0.0), lid_phase, phase)
@@ -354,11 +362,12 @@ MARIONETTE = ((0.39, -0.56), (0.47, -0.86))  # … and a marionette line, down f
 FOLD_REACH = 0.12  # the fold follows the pose's strongest compression this far either side …
 FOLD_BINS = 10  # … found over this many stretches along it …
 FOLD_POWER = 3.0  # … weighting the compression by this power (its strongest, not its spread)
-FOLD_WIDTH = (0.3, 0.55)  # one valley this wide (face x) inside and outside its bottom: a
+FOLD_WIDTH = (0.3, 0.4)  # one valley this wide (face x) inside and outside its bottom: a
 # single broad fold, steeper toward the mouth and the cheek rolling over it, no second one beside
 # it (0.14 and 0.4, three times as deep, drew a trench with hard walls)
 FLAT_BEYOND = 0.02  # past its rims the phase rises this much as steeply: the skin stays flat
-FOLD_ENDS = (0.1, 0.2)  # fading in over this share of its length, out over this share
+FOLD_ENDS = (0.1, 0.4)  # fading in over this share of its length, out over this share
+FOLD_TIP = 0.25  # … narrowing to this share of its width where it has faded
 FOLD_FACING = -1.0  # on skin in front of this (face z): the face, not the ear nor the scalp
 FOLD_GAIN = 1.2  # a nasolabial fold, a little deeper than a frown's lines and broader …
 MARIONETTE_GAIN = 0.4  # … a marionette line, shallower and shorter
@@ -546,9 +555,12 @@ def fold(x: Array, y: Array, z: Array, midline: float, sides: tuple[float, ...],
     depth = np.where(left, np.interp(u, centres, path.depths[1]),
                      np.interp(u, centres, path.depths[0]))
     d = v - offset
-    across = d / np.where(d < 0.0, FOLD_WIDTH[0], FOLD_WIDTH[1])  # ±½ at the rims
-    window = (depth * smoothstep(-0.02, FOLD_ENDS[0], u)
-              * smoothstep(1.0, 1.0 - FOLD_ENDS[1], u) * smoothstep(1.0, 0.6, np.abs(across)))
+    ends = smoothstep(-0.02, FOLD_ENDS[0], u) * smoothstep(1.0, 1.0 - FOLD_ENDS[1], u)
+    # narrowing as it fades: a crease ends in a point, not on a cut straight across it (a
+    # valley wider than its fade is long ended in a box with a step at its foot)
+    narrow = FOLD_TIP + (1.0 - FOLD_TIP) * np.sqrt(ends)
+    across = d / (np.where(d < 0.0, FOLD_WIDTH[0], FOLD_WIDTH[1]) * narrow)  # ±½ at the rims
+    window = depth * ends * smoothstep(1.0, 0.6, np.abs(across))
     phase = _one_valley(across)
     if bunch:
         under, lid_phase, near = lower_lid_lines(

@@ -28,6 +28,7 @@ from studio.core.files.naming import unique_name
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.selection import suggest
 from studio.core.project.model import Project
+from studio.core.setup.skin_tone_maps import add_tone_maps
 from studio.core.setup.stage_clock import stage
 from studio.core.setup.wrinkle_synth import (
     UvRaster,
@@ -495,6 +496,8 @@ def auto_start(project: Project, locate: Callable[[Array], str] | None = None,
         project.textures.wrinkle_maps = textures
         return None
     apply_setup(project, report)
+    with stage("synthesis"):
+        add_tone_maps(project, made)
     lines = [f"auto setup: {report.summary()}",
              *(f"  {line}" for line in report.pose_lines())]
     overlap = uv_overlap_share(project)

@@ -17,6 +17,7 @@ import numpy as np
 
 from studio.core.project.model import Project
 from studio.core.setup.anatomy import FacePlaces
+from studio.core.setup.skin_tone_maps import cavities
 from studio.core.setup.wrinkle_synth import (
     FurrowField,
     Progress,
@@ -38,6 +39,7 @@ class FurrowMaps:
         self._fields: dict[_Key, FurrowField] = {}
         self._made_with: dict[str, tuple] = {}  # map -> (its digest, its poses' controls)
         self._places: tuple[int, int, FacePlaces] | None = None  # the face's, by identity
+        self._cavities: dict[str, tuple[Array, Array]] = {}  # map -> (image, its cavity)
 
     def adopt(self, project: Project) -> None:
         """Take the project's maps as made with its controls, as a project file holds them
@@ -72,6 +74,7 @@ class FurrowMaps:
                 return None
             if image is not None:
                 out[name] = image
+        self._cavities.update({n: (out[n], c) for n, c in cavities(project, out).items()})
         return out
 
     def apply(self, project: Project, made: Mapping[str, tuple[Array, tuple]]) -> list[str]:
@@ -90,6 +93,10 @@ class FurrowMaps:
                 project.furrows.maps[name] = record
                 changed.append(name)
             self._made_with[name] = (record.digest, key[1])
+        for name in changed:  # made with it off the GUI's thread (``make``)
+            image, cavity = self._cavities.pop(name, (None, None))
+            if cavity is not None and image is made[name][0]:
+                project.textures.set_tone(name, cavity=cavity)
         return changed
 
     def remake(self, project: Project, names: Sequence[str]) -> list[str]:

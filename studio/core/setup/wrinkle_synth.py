@@ -79,10 +79,12 @@ DEPTH_PER_SPACING = 0.18  # … and their depth, as a share of the spacing: wall
 # at full depth, as skin's are (0.1–1 mm deep, 0.5–2 mm wide: ../shared/LOOK.md)
 MAX_TILT = 35.0  # degrees: no furrow wall tilts further, however deep poses add up
 GROW_SOFT = 0.25  # depth grows as √(excess compression), eased in over this share of it
-VARY_DEPTH = 0.4  # furrows deepen and fade along their length by this much of their depth …
-VARY_SPACINGS = 3.5  # … over about this many spacings (noise on the surface): no two alike
-WIGGLE = 1.1  # radians of phase a furrow wanders by, over about …
-WIGGLE_SPACINGS = 5.0  # … this many spacings: lines neither ruled nor evenly spaced
+VARY_DEPTH = 0.6  # furrows deepen and fade along their length by this much of their depth …
+VARY_SPACINGS = 2.5  # … over about this many spacings (noise on the surface): no two alike
+WIGGLE = 1.4  # radians of phase a furrow wanders by, over about …
+WIGGLE_SPACINGS = 4.0  # … this many spacings: lines neither ruled nor evenly spaced …
+PLACED_VARY = (0.4, 3.5, 0.55, 5.0)  # anatomy's lines: depth, over spacings, wander, over
+# spacings (a glabellar line or a fold is one stroke: bending more, it turned off its course)
 FURROWS_EACH_SIDE = 4.0  # of the deepest furrow, before the others fade to a third
 FURROWS_ACROSS = 4.0  # a region at least this many furrows across, …
 MAX_FINER = 2.0  # … spacing them up to this much closer than the face's spacing
@@ -693,7 +695,7 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
     if places is not None:
         face_xyz = [raster.image(places.xyz[mesh.weld, k]) for k in (0, 1, 2)]
         keep = anatomy.on_face(raster.image(places.box_y[mesh.weld]))
-    vary, wiggle = _surface_variation(mesh, raster, skin, options)
+    (vary, wiggle), placed_variation = _surface_variation(mesh, raster, skin, options)
 
     def one(i: int, target: Array) -> FurrowField:
         strain = uv_strain.of(target)
@@ -713,8 +715,9 @@ def furrow_fields(mesh: FaceMesh, targets: Sequence[Array], options: SynthOption
                                  ).astype(np.float32)[mesh.weld])
         field = furrow_field(strain, ids, skin_tri, size, options.full_at, smoothing,
                              options.spacing * factor, placed, moved, keep, area)
-        field.variation = vary.ravel()[field.index]
-        field.phase = field.phase + (0.5 if field.placed else 1.0) * wiggle.ravel()[field.index]
+        depth, wander = placed_variation if field.placed else (vary, wiggle)
+        field.variation = depth.ravel()[field.index]
+        field.phase = field.phase + wander.ravel()[field.index]
         return field
 
     # the poses are independent: on all the cores (numpy and PIL let go of the interpreter
@@ -736,19 +739,26 @@ def pose_workers() -> int:
 
 
 def _surface_variation(mesh: FaceMesh, raster: UvRaster, skin: Array | None,
-                       options: SynthOptions) -> tuple[Array, Array]:
-    """(size, size) each: how deep furrows run along their length (a share of their depth,
-    between ``1 − VARY_DEPTH`` and 1: never deeper than asked) and how far their phase
-    wanders (radians, about ``WIGGLE``), from noise on the surface (``surface_noise``) at
-    the work size's texels' 3-D points — continuous across UV charts — over a few furrow
-    spacings (``options.spacing`` on the surface)."""
+                       options: SynthOptions) -> tuple[tuple[Array, Array], tuple[Array, Array]]:
+    """(size, size) each, for the lines the strain lays out and for those anatomy places:
+    how deep furrows run along their length (a share of their depth, between ``1 −
+    VARY_DEPTH`` and 1: never deeper than asked) and how far their phase wanders (radians,
+    about ``WIGGLE``), from noise on the surface (``surface_noise``) at the work size's
+    texels' 3-D points — continuous across UV charts — over a few furrow spacings
+    (``options.spacing`` on the surface). Anatomy's lines vary less and more slowly
+    (``PLACED_VARY``): each is one stroke whose course anatomy gives."""
     density = texels_per_unit(mesh, skin, options.size) or float(options.size)
     spacing = options.spacing / density
     xyz = np.stack([raster.image(mesh.rest[mesh.weld, k]) for k in (0, 1, 2)], axis=-1)
-    depth = 1.0 - VARY_DEPTH * 0.5 * (1.0 - np.tanh(surface_noise(xyz, VARY_SPACINGS * spacing)))
-    wander = WIGGLE * surface_noise(xyz, WIGGLE_SPACINGS * spacing, 1)
-    return (_resample_unbounded(depth, options.size).astype(np.float32),
-            _resample_unbounded(wander, options.size).astype(np.float32))
+    def variation(depth: float, depth_spacings: float, wiggle: float, wiggle_spacings: float
+                  ) -> tuple[Array, Array]:
+        low = 0.5 * (1.0 - np.tanh(surface_noise(xyz, depth_spacings * spacing)))
+        wander = wiggle * surface_noise(xyz, wiggle_spacings * spacing, 1)
+        return (_resample_unbounded(1.0 - depth * low, options.size).astype(np.float32),
+                _resample_unbounded(wander, options.size).astype(np.float32))
+
+    return (variation(VARY_DEPTH, VARY_SPACINGS, WIGGLE, WIGGLE_SPACINGS),
+            variation(*PLACED_VARY))
 
 
 def _grown(vertices: Array, triangles: Array, rings: int) -> Array:

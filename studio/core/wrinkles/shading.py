@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from studio.core.wrinkles.skin_light import Rig, skin_colour, skin_received
+from studio.core.wrinkles.skin_tone import blended_tone
 
 Array = np.ndarray
 
@@ -122,7 +123,8 @@ class Fragment:
     interpolated not-face factor; ``neutral`` (..., 2) and ``wrinkled`` (..., M, 2) the maps'
     x, y in [0, 1]; ``albedo`` (..., 3) the diffuse map in sRGB [0, 1]; ``tbn`` (..., 3, 3)
     columns tangent, bitangent, normal in view space (unit); ``view_pos`` (..., 3); ``texcoord``
-    (..., 2) for the UV checker."""
+    (..., 2) for the UV checker; ``tone`` (..., M, 4) each map's colour (rgb) and cavity (a)
+    texels in [0, 1], or None for a face without them (skin_tone.py)."""
 
     weights: Array
     skin: Array
@@ -132,6 +134,7 @@ class Fragment:
     tbn: Array
     view_pos: Array
     texcoord: Array
+    tone: Array | None = None
 
 
 def _received(n: Array, view_dir: Array, lighting: Lighting, rig: Rig | None
@@ -167,7 +170,11 @@ def fragment_colour(f: Fragment, *, blend: str = "colour", view: str = "shaded",
                  _received(n_wrinkled, view_dir[..., None, :], lighting, rig)]
         diffuse, specular = (pairs[0][k] * (1.0 - total)[..., None]
                              + (w[..., None] * pairs[1][k]).sum(axis=-2) for k in (0, 1))
-    if rig is not None:
+    if rig is not None and f.tone is not None:  # the skin look's tone (clay has none)
+        tone = np.asarray(f.tone, np.float64)
+        tint, kept = blended_tone(w, total, tone[..., :3], tone[..., 3])
+        colour = skin_colour(albedo * tint, diffuse, specular, rig) * kept[..., None]
+    elif rig is not None:
         colour = skin_colour(albedo, diffuse, specular, rig)
     else:
         colour = albedo * (lighting.ambient + diffuse) + specular

@@ -42,6 +42,21 @@ def check_image(image: Array, what: str, channels: int = 3) -> Array:
     return np.ascontiguousarray(image)
 
 
+def eight_bit(image: Array) -> Array:
+    """A checked image at 8 bits (a 16-bit one's high byte)."""
+    return (image >> 8).astype(np.uint8) if image.dtype == np.uint16 else image
+
+
+def tone_image(kind: str, image: Array, name: str) -> Array:
+    """A wrinkled map's ``kind`` ("cavity": greyscale, "colour": RGB) map, checked, at 8 bits;
+    an RGB image given as a cavity map keeps its first channel."""
+    image = np.asarray(image)
+    if kind == "cavity":
+        image = image[..., 0] if image.ndim == 3 else image
+        return eight_bit(check_image(image[..., None], f"cavity map of '{name}'", 1))[..., 0]
+    return eight_bit(check_image(image, f"colour map of '{name}'"))
+
+
 DEFAULT_WRINKLE_MAP = "wrinkles"
 MAX_WRINKLE_MAPS = 4  # the shader blends up to four wrinkled maps per pixel (one vec4 of weights)
 
@@ -67,6 +82,10 @@ class FaceTextures:
         self.diffuse = check_image(diffuse, "diffuse map")
         self.normal_neutral = check_image(normal_neutral, "neutral normal map")
         self.wrinkle_maps: dict[str, Array] = {}
+        # each wrinkled map's cavity (H, W) and colour (H, W, 3), 8-bit, where it has them
+        # (skin_tone.py); a map without them leaves the skin's tone as it is
+        self.cavity_maps: dict[str, Array] = {}
+        self.colour_maps: dict[str, Array] = {}
         for name, image in maps.items():
             self.set_wrinkle_map(name, image)
 
@@ -96,16 +115,45 @@ class FaceTextures:
             raise ImageError(f"a face can have at most {MAX_WRINKLE_MAPS} wrinkled normal maps")
         self.wrinkle_maps[name] = check_image(image, f"wrinkled normal map '{name}'")
 
+    def set_tone(self, name: str, cavity: Array | None = None,
+                 colour: Array | None = None) -> None:
+        """Give the named wrinkled map its cavity (greyscale) and/or colour (RGB) map."""
+        if name not in self.wrinkle_maps:
+            raise ImageError(f"there is no wrinkled normal map '{name}'")
+        if cavity is not None:
+            self.cavity_maps[name] = tone_image("cavity", cavity, name)
+        if colour is not None:
+            self.colour_maps[name] = tone_image("colour", colour, name)
+
+    def tone_for(self, maps: dict[str, Array]) -> tuple[dict[str, Array], dict[str, Array]]:
+        """The (cavity, colour) maps that go with ``maps``, a new set of wrinkled maps (the
+        Maps menu's add, rename, remove): a renamed map (same place, as many maps) keeps its
+        own, a removed map's go."""
+        old, new = list(self.wrinkle_maps), list(maps)
+        same = len(old) == len(new)
+        renamed = dict(zip(old, new, strict=True)) if same else {n: n for n in old if n in maps}
+        return ({renamed[k]: v for k, v in self.cavity_maps.items() if k in renamed},
+                {renamed[k]: v for k, v in self.colour_maps.items() if k in renamed})
+
+    @property
+    def has_tone(self) -> bool:
+        """Whether any wrinkled map has a cavity or colour map (else the skin's tone stays)."""
+        return bool(self.cavity_maps or self.colour_maps)
+
     def remove_wrinkle_map(self, name: str) -> Array:
         if len(self.wrinkle_maps) == 1:
             raise ImageError("the last wrinkled normal map cannot be removed")
+        self.cavity_maps.pop(name, None)
+        self.colour_maps.pop(name, None)
         return self.wrinkle_maps.pop(name)
 
     def rename_wrinkle_map(self, old: str, new: str) -> None:
         new = str(new).strip()
         if not new or (new in self.wrinkle_maps and new != old):
             raise ImageError(f"a wrinkled normal map needs a new, unused name (got '{new}')")
-        self.wrinkle_maps = {new if k == old else k: v for k, v in self.wrinkle_maps.items()}
+        for maps in ("wrinkle_maps", "cavity_maps", "colour_maps"):
+            setattr(self, maps, {new if k == old else k: v
+                                 for k, v in getattr(self, maps).items()})
 
 
 def resize_nearest(image: Array, height: int, width: int) -> Array:

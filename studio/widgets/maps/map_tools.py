@@ -18,6 +18,7 @@ from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS, FaceTextures
 from studio.widgets.app_settings import remember_folder, start_folder
 from studio.widgets.document import Document
+from studio.widgets.maps.tone_tools import ToneTools
 
 MAPS = {"diffuse": "Diffuse map", "normal_neutral": "Neutral normal map",
         "normal_wrinkled": "Wrinkled normal map"}
@@ -80,14 +81,18 @@ class WrinkleMapsCommand(QUndoCommand):
         self.doc = doc
         project = doc.project
         self.areas = [*project.influence.areas, *project.wdv.areas]
-        self.old = (dict(project.textures.wrinkle_maps), [a.wrinkle_map for a in self.areas])
+        textures = project.textures
+        self.old = (dict(textures.wrinkle_maps), [a.wrinkle_map for a in self.areas],
+                    (dict(textures.cavity_maps), dict(textures.colour_maps)))
         names = [area_maps.get(id(a), a.wrinkle_map) if area_maps else a.wrinkle_map
                  for a in self.areas]
-        self.new = (dict(maps), names)
+        self.new = (dict(maps), names, textures.tone_for(maps))
 
-    def _apply(self, state: tuple[dict[str, np.ndarray], list[str]]) -> None:
-        maps, names = state
-        self.doc.project.textures.wrinkle_maps = dict(maps)
+    def _apply(self, state: tuple) -> None:
+        maps, names, (cavity, colour) = state
+        textures = self.doc.project.textures
+        textures.wrinkle_maps = dict(maps)
+        textures.cavity_maps, textures.colour_maps = dict(cavity), dict(colour)
         for area, name in zip(self.areas, names, strict=True):
             area.wrinkle_map = name
         self.doc.texturesChanged.emit()
@@ -104,6 +109,7 @@ class WrinkleMapsCommand(QUndoCommand):
 class MapTools:
     def __init__(self, window) -> None:
         self.window = window
+        self.tone = ToneTools(self)  # each wrinkled map's cavity and colour maps
 
     @property
     def doc(self) -> Document:
@@ -220,6 +226,7 @@ class MapTools:
             sub.addAction("Replace…", lambda k=key: self.replace(k))
             sub.addAction("From Height Map…", lambda k=key: self.from_height(k))
             sub.addAction("Flip Green (DirectX ↔ OpenGL)", lambda k=key: self.flip(k))
+            self.tone.add_actions(sub, name)
             sub.addSeparator()
             sub.addAction("Rename…", lambda n=name: self.rename_wrinkled(n))
             sub.addAction("Remove", lambda n=name: self.remove_wrinkled(n))
