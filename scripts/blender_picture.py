@@ -1,8 +1,10 @@
 """The README's Blender picture: the sample exported as a folder, its face.glb and
 blender_wrinkles.py run in stock Blender (scripts/blender_wrinkle_render.py, Cycles on the CPU),
-a pose's shape key at 1 without and with the wrinkle material's wrinkles, side by side.
+a pose's shape key at 1 without and with the wrinkle material's wrinkles (technique 1 or 2),
+side by side.
 
     python scripts/blender_picture.py [OUT.png] [--pose NAME] [--size N] [--samples N]
+                                      [--technique 1|2]
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ def main() -> int:
     parser.add_argument("--pose", default="browInnerUp_L")
     parser.add_argument("--size", type=int, default=480)
     parser.add_argument("--samples", type=int, default=32)
+    parser.add_argument("--technique", type=int, choices=(1, 2), default=1)
     args = parser.parse_args()
     from studio.core.files.images import write_png
     from studio.core.formats.export import export_folder
@@ -36,7 +39,8 @@ def main() -> int:
         export_folder(sample_project(), folder)
         subprocess.run([sys.executable, str(ROOT / "scripts" / "blender_wrinkle_render.py"),
                         str(folder), args.pose, str(renders), "--size", str(args.size),
-                        "--samples", str(args.samples)], check=True, capture_output=True)
+                        "--samples", str(args.samples), "--technique", str(args.technique)],
+                       check=True, capture_output=True)
         pair = []
         for name in ("pose1_off", "pose1_on"):
             with Image.open(renders / f"{name}.png") as image:

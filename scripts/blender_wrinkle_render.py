@@ -1,12 +1,15 @@
 """Renders an export folder's face in Blender with its wrinkle material, as a user would make it.
 
     python scripts/blender_wrinkle_render.py FOLDER POSE OUT_DIR [--size N] [--samples N]
+                                             [--technique 1|2] [--weight W]
 
 Needs the ``bpy`` package (the test extra). Imports FOLDER/face.glb, runs the folder's
 ``blender_wrinkles.py`` (the export's script), and renders the upper face from the front with
-Cycles on the CPU four times: POSE's shape key at 1 and at 0, each with the object's
-``wrinkle_strength`` at 1 and at 0, into OUT_DIR/{pose1,pose0}_{on,off}.png. Prints one JSON
-line (after MARK): bpy's version, and the value each area's activation driver gives at POSE = 1.
+Cycles on the CPU four times: POSE's shape key at 1 (or W) and at 0, each with the object's
+``wrinkle_strength`` at 1 and at 0, into OUT_DIR/{pose1,pose0}_{on,off}.png, with the object's
+``wrinkle_technique`` as asked (default: the one the script set, the project's). Prints one JSON
+line (after MARK): bpy's version, the value each driver gives at POSE = 1 (or W; by its label), and
+the picture's frame (its centre's Blender x and z, and the width it spans).
 """
 
 from __future__ import annotations
@@ -28,6 +31,8 @@ def main() -> int:
     parser.add_argument("out", type=Path)
     parser.add_argument("--size", type=int, default=160)
     parser.add_argument("--samples", type=int, default=8)
+    parser.add_argument("--technique", type=int, choices=(1, 2))
+    parser.add_argument("--weight", type=float, default=1.0, help="POSE's weight in pose1_*")
     args = parser.parse_args()
     import bpy
     from mathutils import Vector
@@ -65,22 +70,26 @@ def main() -> int:
     for block in face.data.shape_keys.key_blocks:  # and left its values at the first frame's
         block.value = 0.0
     key = face.data.shape_keys.key_blocks[args.pose]
+    if args.technique is not None:
+        face["wrinkle_technique"] = args.technique
     args.out.mkdir(parents=True, exist_ok=True)
     activations = {}
-    for weight in (1.0, 0.0):
+    for weight, pose in ((args.weight, "pose1"), (0.0, "pose0")):
         for strength, label in ((1.0, "on"), (0.0, "off")):
             key.value = weight
             face["wrinkle_strength"] = strength
             scene.frame_set(scene.frame_current)  # drivers follow
             bpy.context.view_layer.update()
-            if weight == 1.0 and strength == 1.0:
+            if pose == "pose1" and strength == 1.0:
                 material = face.active_material
                 activations = {n.label: n.outputs[0].default_value
                                for n in material.node_tree.nodes if n.type == "VALUE"}
-            scene.render.filepath = str(args.out / f"pose{int(weight)}_{label}.png")
+            scene.render.filepath = str(args.out / f"{pose}_{label}.png")
             bpy.ops.render.render(write_still=True)
-    print("\n" + MARK + json.dumps({"bpy": bpy.app.version_string,
-                                    "activations": activations}), flush=True)
+    # where the picture is: its centre (Blender's x, z) and the width it spans
+    frame = [centre.x, camera.location.z, camera.data.ortho_scale]
+    print("\n" + MARK + json.dumps({"bpy": bpy.app.version_string, "activations": activations,
+                                    "frame": frame}), flush=True)
     return 0
 
 

@@ -22,7 +22,8 @@ custom attributes (Blender, with any options) still does: ``TEXCOORD_1`` and a c
 neutral normal map's PNG carry the set-up (core/formats/gltf/carry.py), and the reader says what
 it could not bring back. Files of the older layout (scalar ``_WELD``, ``_WRINKLE_LEN_<n>``,
 ``_WRINKLE_CONE_<n>``, ``_NOT_FACE``, ``_UDIM_TILE``; images by index) still open. What the
-three.js module ``wrinkles.js`` (written beside every export) plays from rides in
+three.js module ``wrinkles.js`` (written beside every export, with the Blender script
+``blender_wrinkles.py``: core/formats/blender_material.py) plays from rides in
 ``extras.wrinklePlayer`` (core/formats/gltf/player.py).
 """
 
@@ -40,6 +41,7 @@ from studio.core.animation.timeline import Timeline
 from studio.core.files.budgets import POSES
 from studio.core.files.errors import MeshError
 from studio.core.files.png import encode_png
+from studio.core.formats.blender_material import ship_blender_script
 from studio.core.formats.gltf.animation import animation_spec, timeline_from_animation
 from studio.core.formats.gltf.carry import STUDIO_UV, find_setup, studio_uvs, with_setup
 from studio.core.formats.gltf.container import BIN_CHUNK, JSON_CHUNK, MAGIC, _Gltf, _item, _list
@@ -64,6 +66,7 @@ from studio.core.formats.gltf.player import PLAYER_KEY, player_extras
 from studio.core.formats.gltf.renames import pose_renames, renamed_extras, used_poses
 from studio.core.formats.gltf.scene import placed, placed_meshes, scene_meshes
 from studio.core.formats.gltf.survived import MAP_PREFIX, MASK_PREFIX, survived_setup
+from studio.core.formats.gltf_names import VERTEX_DATA, image_names, wdv_attributes
 from studio.core.formats.three_module import ship_three_module
 from studio.core.mesh.face_mesh import FaceMesh
 from studio.core.mesh.geometry import DeformCache
@@ -84,14 +87,7 @@ __all__ = ["BIN_CHUNK", "JSON_CHUNK", "VERTEX_DATA", "_Gltf", "gltf_parts", "ima
            "load_gltf", "load_weight_animation", "save_gltf", "vertex_attributes",
            "wdv_attributes"]
 # The welded vertex number, 1 on vertices never wrinkled, the UDIM tile: one VEC3 per vertex
-VERTEX_DATA = "_WELD_NOTFACE_TILE"
 OLD_WELD = "_WELD"  # the older layout's scalar attributes (files written before the VEC3s)
-
-
-def wdv_attributes(n: int) -> tuple[str, str]:
-    """The two VEC3 attributes of technique-2 area ``n``: its directions, and (length, painted
-    cone angle in degrees — 0 the area's own —, 1 where the area's cones are painted)."""
-    return f"_WRINKLE_DIR_{n}", f"_WRINKLE_LEN_CONE_{n}"
 
 
 def _first_occurrence(weld: Array, n_welded: int) -> Array:
@@ -614,15 +610,6 @@ def vertex_attributes(project: Project) -> dict[str, Array]:
     return out
 
 
-def image_names(project: Project) -> tuple[list[str], list[str]]:
-    """The names the export gives the wrinkled maps' and the masks' images. The studio's extras
-    (and the Blender script, core/formats/blender_material.py) refer to images by these: other
-    tools keep names and renumber images."""
-    return (["normal_wrinkled", *(f"wrinkled: {name}"
-                                  for name in project.textures.wrinkle_map_names[1:])],
-            [f"mask: {a.name}" for a in project.influence.areas])
-
-
 def _studio_extras(project: Project, frame: str, map_images: list[str],
                    mask_images: list[str]) -> dict:
     """``extras.wrinkleStudio``: everything the studio authored that glTF has no place for,
@@ -732,6 +719,7 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
 
     write_atomic(path, data, MeshError, what="file")
     ship_three_module(path)
+    ship_blender_script(project, path)  # techniques 1 and 2 as a Blender material
 
 
 def load_weight_animation(path: str | Path) -> tuple[list[str], Array, Array]:
