@@ -31,8 +31,15 @@ def small_project():
     return make_test_face(561, texture_size=64, mask_size=32)
 
 
+# what write_base leaves: the glTF export carries the Blender script and the three.js module
+# with its example page beside the .glb
+BASE_FILES = ("p.wrinkle", "face.obj", "face.glb", "blender_wrinkles.py", "wrinkles.js",
+              "example.html")
+
+
 def write_base(folder: Path) -> None:
-    """p.wrinkle (a valid small project), face.obj (its mesh), face.glb (its glTF)."""
+    """p.wrinkle (a valid small project), face.obj (its mesh), face.glb (its glTF, with the
+    files every glTF export writes beside it)."""
     project = small_project()
     save_project(project, folder / "p.wrinkle", backup=False)
     save_obj(folder / "face.obj", project.mesh)

@@ -20,7 +20,7 @@ import pytest
 
 from studio.cli import main
 from studio.core.formats.gltf.codec import load_gltf
-from tests.bad_inputs import CASES, Case, make_case, write_base
+from tests.bad_inputs import BASE_FILES, CASES, Case, make_case, write_base
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMEOUT_S = 60  # a hang guard only: every case answers in well under a second of its own work
@@ -92,7 +92,7 @@ def test_a_null_byte_in_a_path_is_one_line(tmp_path: Path, capsys) -> None:
         assert main(args) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "null byte" in err[0], err
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["face.glb", "face.obj", "p.wrinkle"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(BASE_FILES)
 
 
 def test_a_killed_export_leaves_the_old_file_or_a_whole_new_one(tmp_path: Path) -> None:
@@ -121,8 +121,7 @@ def test_a_killed_export_leaves_the_old_file_or_a_whole_new_one(tmp_path: Path) 
     # leftovers of killed runs are hidden, and the next write sweeps them away
     code, lines, _, _ = run_cli(["export", "p.wrinkle", "--gltf", "out.glb"], tmp_path)
     assert code == 0, lines
-    assert sorted(p.name for p in tmp_path.iterdir()) == [
-        "face.glb", "face.obj", "out.glb", "p.wrinkle"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*BASE_FILES, "out.glb"])
 
 
 def test_a_failed_gif_leaves_no_file_and_an_existing_one_intact(tmp_path: Path,
@@ -147,5 +146,4 @@ def test_a_failed_gif_leaves_no_file_and_an_existing_one_intact(tmp_path: Path,
         main(["render", str(tmp_path / "p.wrinkle"), "--technique", "t1", "--size", "32x24",
               "--gif", str(gif)])
     assert gif.read_bytes() == b"old gif"
-    assert sorted(p.name for p in tmp_path.iterdir()) == [
-        "a.gif", "face.glb", "face.obj", "p.wrinkle"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*BASE_FILES, "a.gif"])
