@@ -18,6 +18,7 @@ from studio.core.wrinkles.normalmap import flip_green, height_to_normal
 from studio.core.wrinkles.textures import MAX_WRINKLE_MAPS, FaceTextures
 from studio.widgets.app_settings import remember_folder, start_folder
 from studio.widgets.document import Document
+from studio.widgets.maps.image_swap import ImageSwapCommand
 from studio.widgets.maps.tone_tools import ToneTools
 
 MAPS = {"diffuse": "Diffuse map", "normal_neutral": "Neutral normal map",
@@ -48,27 +49,15 @@ def set_map(textures: FaceTextures, key: str, image: np.ndarray) -> None:
         setattr(textures, key, image)
 
 
-class SetMapCommand(QUndoCommand):
+class SetMapCommand(ImageSwapCommand):
     """Replace one texture map; keeps both images (maps are replaced whole, rarely)."""
 
     def __init__(self, doc: Document, attribute: str, image: np.ndarray, text: str) -> None:
-        super().__init__(text)
-        self.doc, self.attribute = doc, attribute
-        self.old = get_map(doc.project.textures, attribute)
-        self.new = image
+        super().__init__(doc, get_map(doc.project.textures, attribute), image, text)
+        self.attribute = attribute
 
     def _apply(self, image: np.ndarray) -> None:
         set_map(self.doc.project.textures, self.attribute, image)
-        self.doc.texturesChanged.emit()
-
-    def redo(self) -> None:
-        self._apply(self.new)
-
-    def undo(self) -> None:
-        self._apply(self.old)
-
-    def nbytes(self) -> int:
-        return self.old.nbytes + self.new.nbytes
 
 
 class WrinkleMapsCommand(QUndoCommand):

@@ -8,12 +8,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtGui import QUndoCommand
 from PySide6.QtWidgets import QFileDialog, QMenu
 
 from studio.core.files.images import load_grey, load_rgb, write_png
 from studio.core.wrinkles.textures import tone_image
 from studio.widgets.document import Document
+from studio.widgets.maps.image_swap import ImageSwapCommand
 
 KINDS = {"cavity": "cavity map", "colour": "colour map"}
 
@@ -29,32 +29,19 @@ def load_tone(kind: str, path: Path) -> np.ndarray:
     return load_rgb(path)
 
 
-class SetToneCommand(QUndoCommand):
+class SetToneCommand(ImageSwapCommand):
     """Replace (or remove, with None) one wrinkled map's cavity or colour map."""
 
     def __init__(self, doc: Document, name: str, kind: str, image: np.ndarray | None,
                  text: str) -> None:
-        super().__init__(text)
-        self.doc, self.name, self.kind = doc, name, kind
-        self.old = tone_maps(doc, kind).get(name)
-        self.new = image
+        super().__init__(doc, tone_maps(doc, kind).get(name), image, text)
+        self.name, self.kind = name, kind
 
     def _apply(self, image: np.ndarray | None) -> None:
-        textures = self.doc.project.textures
         if image is None:
             tone_maps(self.doc, self.kind).pop(self.name, None)
         else:
-            textures.set_tone(self.name, **{self.kind: image})
-        self.doc.texturesChanged.emit()
-
-    def redo(self) -> None:
-        self._apply(self.new)
-
-    def undo(self) -> None:
-        self._apply(self.old)
-
-    def nbytes(self) -> int:
-        return sum(image.nbytes for image in (self.old, self.new) if image is not None)
+            self.doc.project.textures.set_tone(self.name, **{self.kind: image})
 
 
 class ToneTools:
