@@ -119,8 +119,11 @@ def test_a_killed_export_leaves_the_old_file_or_a_whole_new_one(tmp_path: Path) 
             outcomes.add("new")
     assert outcomes  # (which outcomes occur depends on the machine's speed)
     # leftovers of killed runs are hidden, and the next write sweeps them away
-    code, lines, _, _ = run_cli(["export", "p.wrinkle", "--gltf", "out.glb"], tmp_path)
+    code, lines, out, _ = run_cli(["export", "p.wrinkle", "--gltf", "out.glb"], tmp_path)
     assert code == 0, lines
+    # the user is told of the files written beside the glTF, not only of the glTF
+    assert out.strip() == ("wrote out.glb (beside it: wrinkles.js, example.html, "
+                           "blender_wrinkles.py)"), out
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*BASE_FILES, "out.glb"])
 
 

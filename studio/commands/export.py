@@ -61,8 +61,8 @@ def run(args: argparse.Namespace) -> int:
         check_output_folder(args.folder, what="export folder")
     project = load_project(Path(args.project))
     if args.gltf:
-        save_gltf(project, Path(args.gltf))
-        print(f"wrote {args.gltf}")
+        beside = save_gltf(project, Path(args.gltf))
+        print(f"wrote {args.gltf} (beside it: {', '.join(p.name for p in beside)})")
     elif args.layout:
         try:
             plan, files = export_layout(project, args.folder, args.layout, args.bits,

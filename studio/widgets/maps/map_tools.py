@@ -272,13 +272,14 @@ class MapTools:
     def _export(self, write, target: str) -> None:
         QApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)  # a real head: seconds
         try:
-            write()
+            beside = write()  # a glTF export: the files written beside it
         except StudioError as exc:
             QApplication.restoreOverrideCursor()
             self.window.show_error("Cannot export", exc)
             return
         QApplication.restoreOverrideCursor()
-        self.window.statusBar().showMessage(f"Exported to {Path(target).resolve()}", SAY_MS)
+        also = f" (beside it: {', '.join(p.name for p in beside)})" if beside else ""
+        self.window.statusBar().showMessage(f"Exported to {Path(target).resolve()}{also}", SAY_MS)
 
 
 def install_map_tools(window) -> MapTools:

@@ -634,8 +634,10 @@ def _studio_extras(project: Project, frame: str, map_images: list[str],
                           for a in project.wdv.areas]}}
 
 
-def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = None) -> None:
-    """Write the project as a binary glTF (.glb).
+def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = None
+              ) -> list[Path]:
+    """Write the project as a binary glTF (.glb); returns the files written beside it (the
+    three.js module, its example page and the Blender script), for the user to be told.
 
     ``tangent_frame`` (default: the one the project's view settings name) is the frame the
     TANGENT attribute is written in: the one the normal maps were made for.
@@ -718,8 +720,9 @@ def save_gltf(project: Project, path: str | Path, tangent_frame: str | None = No
     from studio.core.files.atomic_write import write_atomic
 
     write_atomic(path, data, MeshError, what="file")
-    ship_three_module(path)
-    ship_blender_script(project, path)  # techniques 1 and 2 as a Blender material
+    beside = ship_three_module(path)
+    beside.append(ship_blender_script(project, path))  # techniques 1 and 2 in Blender
+    return beside
 
 
 def load_weight_animation(path: str | Path) -> tuple[list[str], Array, Array]:
