@@ -178,3 +178,18 @@ def test_the_export_folder_s_sheet_carries_the_onsets(face, tmp_path):
     sheet = json.loads((tmp_path / "out" / "wrinkles.json").read_text(encoding="utf-8"))
     assert sheet["pose_onsets"] == {n: face.furrows.of(n).onset for n in names}
     assert sheet["pose_onsets"][names[0]] == pytest.approx(0.6)
+
+
+def test_the_engine_layout_sheet_carries_the_onsets(face, tmp_path):
+    """An engine's own curves must put each pose's weight through its onset too: the layout
+    sheet a technical artist reads says so, as the folder's does."""
+    from studio.core.engines.export import SHEET, export_layout
+
+    name = face.poses[0].name
+    export_layout(face, tmp_path / "plain", "metahuman")
+    plain = json.loads((tmp_path / "plain" / SHEET).read_text(encoding="utf-8"))
+    assert "pose_onsets" not in plain
+    with_onset(face, name, 0.4)
+    export_layout(face, tmp_path / "out", "metahuman")
+    sheet = json.loads((tmp_path / "out" / SHEET).read_text(encoding="utf-8"))
+    assert sheet["pose_onsets"] == {name: pytest.approx(0.4)}

@@ -25,6 +25,7 @@ from studio.core.files.safe_io import check_output
 from studio.core.formats.export import (
     export_folder,
     make_folders,
+    onsets_note,
     quantise,
     tile_copies,
     uv_tiles_note,
@@ -229,5 +230,6 @@ def layout_sheet(project: Project, plan: Plan) -> dict:
         **({"merged": [{"mask": m.mask, "into": m.into, "strength": round(m.strength, 6),
                         "overlap": round(m.overlap, 4), "note": m.describe()}
                        for m in plan.merged]} if plan.merged else {}),
+        **onsets_note(project),
         **uv_tiles_note(project),
     }

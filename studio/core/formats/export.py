@@ -81,6 +81,15 @@ def uv_tiles_note(project: Project) -> dict:
                                  "NAME.<UDIM>.png hold each skin tile in its own 0-1 square"}}
 
 
+def onsets_note(project: Project) -> dict:
+    """The sheet's record of each pose's onset where it has one (empty when none has): the
+    weight goes through max(0, (w - onset) / (1 - onset)) before the links' curves
+    (core/wrinkles/response.py onset_weight), which an engine's own curves must do too."""
+    onsets = {p.name: onset for p in project.poses
+              if (onset := project.furrows.of(p.name).onset) > 0}
+    return {"pose_onsets": onsets} if onsets else {}
+
+
 def export_folder(project: Project, folder: str | Path, bits: int = 16,
                   tangent_frame: str | None = None) -> list[Path]:
     """Write everything an engine needs into ``folder``; returns the files written.
@@ -133,11 +142,7 @@ def export_folder(project: Project, folder: str | Path, bits: int = 16,
         "pose_links": project.influence.links,
         # the non-linear links' response curves: contribution = gain · curve(pose weight)
         "pose_curves": curves_to_dict(project.influence.curves),
-        # each pose's onset where it has one: the weight goes through max(0, (w - onset) /
-        # (1 - onset)) before the curves (core/wrinkles/response.py onset_weight)
-        **({"pose_onsets": onsets} if (onsets := {
-            p.name: o for p in project.poses if (o := project.furrows.of(p.name).onset) > 0})
-           else {}),
+        **onsets_note(project),
         **uv_tiles_note(project),
         "packed_layout": layout,
         "wdv": {"expression_factor": project.wdv.expression_factor,
