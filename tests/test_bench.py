@@ -14,7 +14,7 @@ from studio.render.offscreen import OffscreenStudio
 from studio.render.settings import RenderSettings
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses", "frame", "cpu_ms"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses", "frame", "cpu_ms", "look"]
 
 
 def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
@@ -43,6 +43,9 @@ def test_quick_bench_writes_a_well_formed_csv_and_plots(tmp_path, capsys):
     assert whole == {("t2", 0), ("t1", 1), ("t1", 16), ("t1", 64)}
     areas = sorted(int(r["areas"]) for r in rows if r["technique"] == "t1")
     assert areas[-1] >= 16
+    # the skin look's cost (issue 46): each technique and none, in the skin look, on the area model
+    skin = {(r["technique"], r["vertices"]) for r in rows if r["look"] == "skin"}
+    assert skin == {(t, "2172") for t in ("none", "t1", "t2")}
     for plot in ("fps_by_areas.png", "fps_by_vertices.png"):
         assert (out / plot).stat().st_size > 1000
     printed = capsys.readouterr().out

@@ -34,6 +34,7 @@ class Config:
     poses: int = 0  # 0: the sample's poses in turn | N: N ARKit poses all moving every frame
     frame: str = DEFAULT_TANGENT_FRAME  # the tangent frame recomputed as the face moves
     still: bool = False  # the neutral face held: no deformation at all (the floor of a frame)
+    look: str = "clay"  # clay | skin (RenderSettings.look, under the studio light rig)
 
     @property
     def label(self) -> str:
@@ -42,13 +43,16 @@ class Config:
         whole = " whole" if self.draw == "whole" else ""
         moving = f", {self.poses} poses moving" if self.poses else ", still" if self.still else ""
         frame = f", {self.frame} frame" if self.frame != DEFAULT_TANGENT_FRAME else ""
-        return f"{self.technique}{relief}{whole}{extra}{moving}{frame}, {self.vertices} vertices"
+        look = f", {self.look}" if self.look != "clay" else ""
+        return (f"{self.technique}{relief}{whole}{extra}{moving}{frame}{look}, "
+                f"{self.vertices} vertices")
 
 
 def reproduces_thesis(config: Config) -> bool:
     """Whether ``config`` is one of the thesis's own measurements (Tables 5.2–5.4): those are
     timed in the thesis's tangent frame too, beside the studio's default."""
-    if config.relief != "off" or config.draw != "split" or config.poses or config.still:
+    if (config.relief != "off" or config.draw != "split" or config.poses or config.still
+            or config.look != "clay"):
         return False
     if config.technique == "t1" and config.vertices == AREA_MODEL:
         return config.areas in THESIS_AREAS
@@ -75,6 +79,10 @@ def configurations(quick: bool = False, poses: int = 0) -> list[Config]:
             configs += [Config(t, COMPARISON_AREAS if t == "t1" else 0, v, relief)
                         for t, relief in RELIEF_CONFIGS]
             configs += [Config("t2", 0, v, draw="whole")]
+            # the skin look's cost: each technique against none, all in the skin look (issue
+            # 46: within 1.1×), and the skin look against clay's same configurations
+            configs += [Config(t, COMPARISON_AREAS if t == "t1" else 0, v, look="skin")
+                        for t in ("none", "t1", "t2")]
             configs += [Config("t1", a, v, draw="whole") for a in by_areas]
     configs = [c for config in configs
                for c in (config, replace(config, frame="thesis"))[:1 + reproduces_thesis(config)]]

@@ -18,7 +18,7 @@ from studio.bench.runner import Result
 from studio.core.mesh.tangent_frames import DEFAULT_TANGENT_FRAME
 
 COLUMNS = ["technique", "areas", "vertices", "width", "height", "frames", "mean_ms", "fps_mean",
-           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses", "frame", "cpu_ms"]
+           "fps_min", "fps_max", "fps_std", "relief", "draw", "poses", "frame", "cpu_ms", "look"]
 
 
 def table(results: Sequence[Result]) -> str:
@@ -119,7 +119,8 @@ def line_plot(path: Path, title: str, x_label: str, series: dict[str, list[tuple
 def write_plots(results: Sequence[Result], out: Path) -> list[Path]:
     # reliefs, the many-poses and still cases and the thesis's tangent frame: in the table only
     results = [r for r in results if r.config.relief == "off" and not r.config.poses
-               and not r.config.still and r.config.frame == DEFAULT_TANGENT_FRAME]
+               and not r.config.still and r.config.frame == DEFAULT_TANGENT_FRAME
+               and r.config.look == "clay"]
     whole = [r for r in results if r.config.draw == "whole"]
     results = [r for r in results if r.config.draw == "split"]
     by_areas = {"ours: t1": [(r.config.areas, float(r.fps.mean())) for r in results

@@ -51,7 +51,7 @@ class Result:
                 "fps_min": round(float(fps.min()), 2), "fps_max": round(float(fps.max()), 2),
                 "fps_std": round(float(fps.std()), 2), "deform_ms": round(self.deform_ms, 3),
                 "relief": c.relief, "draw": c.draw, "poses": c.poses, "frame": c.frame,
-                "cpu_ms": round(float(self.cpu_ms.mean()), 3)}
+                "cpu_ms": round(float(self.cpu_ms.mean()), 3), "look": c.look}
 
 
 def deformation_cpu_ms(project: Project, timeline: Timeline, frames: int, frame: str,
@@ -93,7 +93,8 @@ class _Timed:
         # the tangent frame recomputed as the face moves: the user's default, or the thesis's
         self.settings = render_settings(ViewSettings(technique=config.technique,
                                                      relief=config.relief,
-                                                     tangent_frame=config.frame))
+                                                     tangent_frame=config.frame,
+                                                     look=config.look))
         self.times: list[float] = []
         self.cpu: list[float] = []
         self._frame = 0
