@@ -93,7 +93,10 @@ def test_new_auto_says_its_stages_and_a_bar_with_the_time_left(tmp_path, capsys)
     assert printed.err == "" and out.exists()
 
 
-def test_ctrl_c_halfway_through_the_set_up_writes_nothing(tmp_path):
+def test_ctrl_c_partway_through_the_set_up_writes_nothing(tmp_path):
+    """Ctrl+C once a quarter of the set-up is done: nothing written. (A quarter, not half: this
+    process reads the child's bar late on a loaded machine, and the child must still be working
+    when the signal arrives.)"""
     args = [*head_files(tmp_path / "obj"), "--auto", "-o", str(tmp_path / "head.wrinkle")]
     before = sorted(p.name for p in tmp_path.rglob("*"))
     env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONUNBUFFERED="1")
@@ -103,7 +106,7 @@ def test_ctrl_c_halfway_through_the_set_up_writes_nothing(tmp_path):
     for line in child.stdout:
         seen.append(line)
         bar = BAR.search(line)
-        if bar and 2 * int(bar.group(2)) >= int(bar.group(3)):
+        if bar and 4 * int(bar.group(2)) >= int(bar.group(3)):
             child.send_signal(signal.SIGINT)  # what Ctrl+C in the terminal does
             break
     rest, err = child.communicate(timeout=300)
