@@ -42,23 +42,30 @@ def rendered(out: Path, name: str) -> np.ndarray:
         return np.asarray(image.convert("RGB")).astype(int)
 
 
-def changed(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.abs(a - b).max(-1) > 4
-
-
-def test_moving_the_shape_key_wrinkles_the_forehead_in_a_cycles_render(tmp_path):
+def blender_render(folder: Path, out: Path, *options: str) -> dict:
+    """Stock Blender (the bpy package) renders ``folder``'s export by
+    scripts/blender_wrinkle_render.py into ``out``, JUDGED at 1 and at 0, wrinkles on and
+    off; its report (bpy's version, the drivers' values)."""
     if importlib.util.find_spec("bpy") is None:
         pytest.fail("bpy is not installed: run 'bash scripts/setup.sh test'")
-    export_folder(set_up_head(), tmp_path / "folder")
-    out = tmp_path / "render"
-    done = subprocess.run([sys.executable, str(SCRIPT), str(tmp_path / "folder"), JUDGED,
-                           str(out), "--technique", "1"],
-                          capture_output=True, text=True, timeout=600, check=False)
+    done = subprocess.run([sys.executable, str(SCRIPT), str(folder), JUDGED, str(out),
+                           *options], capture_output=True, text=True, timeout=600, check=False)
     assert done.returncode == 0, done.stderr[-3000:]
     mark = "BLENDER_WRINKLE_RENDER "
     (report,) = [json.loads(line[len(mark):]) for line in done.stdout.splitlines()
                  if line.startswith(mark)]
     assert report["bpy"].startswith("4.5")
+    return report
+
+
+def changed(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.abs(a - b).max(-1) > 4
+
+
+def test_moving_the_shape_key_wrinkles_the_forehead_in_a_cycles_render(tmp_path):
+    export_folder(set_up_head(), tmp_path / "folder")
+    out = tmp_path / "render"
+    report = blender_render(tmp_path / "folder", out, "--technique", "1")
     activations = {label: value for label, value in report["activations"].items()
                    if label.startswith("activation: ")}  # technique 1's drivers
     assert activations.pop(f"activation: {JUDGED}") == pytest.approx(1.0)

@@ -6,10 +6,6 @@ forehead in a Cycles render where the studio's technique 2 shows it, and nowhere
 
 from __future__ import annotations
 
-import importlib.util
-import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -20,11 +16,9 @@ from studio.core.formats.gltf.codec import save_gltf
 from studio.core.project.model import Project
 from studio.core.wrinkles.response import onset_weight
 from studio.core.wrinkles.wdv import visibility
-from tests.test_blender_material import changed, rendered
+from tests.test_blender_material import blender_render, changed, rendered
 from tests.test_blender_round_trip import JUDGED, set_up_head
 
-ROOT = Path(__file__).resolve().parent.parent
-RENDER = ROOT / "scripts" / "blender_wrinkle_render.py"
 SIZE = 128
 
 
@@ -74,22 +68,13 @@ def render_technique_2(project: Project, tmp_path: Path, weight: float = 1.0
                        ) -> tuple[dict, Path]:
     """The project's plain glTF export rendered in Blender with technique 2, JUDGED at
     ``weight`` (pose1_*) and at 0 (pose0_*), wrinkles on and off; the render's report."""
-    if importlib.util.find_spec("bpy") is None:
-        pytest.fail("bpy is not installed: run 'bash scripts/setup.sh test'")
     folder = tmp_path / "plain"
     folder.mkdir()
     save_gltf(project, folder / "face.glb")  # the plain export, not the folder
     assert (folder / SCRIPT).is_file()
     out = tmp_path / "render"
-    done = subprocess.run([sys.executable, str(RENDER), str(folder), JUDGED, str(out),
-                           "--technique", "2", "--size", str(SIZE), "--samples", "4",
-                           "--weight", repr(weight)],
-                          capture_output=True, text=True, timeout=600, check=False)
-    assert done.returncode == 0, done.stderr[-3000:]
-    mark = "BLENDER_WRINKLE_RENDER "
-    (report,) = [json.loads(line[len(mark):]) for line in done.stdout.splitlines()
-                 if line.startswith(mark)]
-    assert report["bpy"].startswith("4.5")
+    report = blender_render(folder, out, "--technique", "2", "--size", str(SIZE),
+                            "--samples", "4", "--weight", repr(weight))
     assert report["activations"]["technique 2"] == 1.0
     return report, out
 
