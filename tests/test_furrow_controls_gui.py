@@ -28,6 +28,16 @@ LEFT = Qt.MouseButton.LeftButton
 POSE = "surprise"  # raises both brows: the forehead's lines
 
 
+def save_with_ctrl_s(qtbot, window, monkeypatch, saved) -> None:
+    """Ctrl+S on the window, the save dialog answering ``saved``: the file is written and the
+    window no longer marked modified."""
+    monkeypatch.setattr(QFileDialog, "getSaveFileName",
+                        staticmethod(lambda *a, **k: (str(saved), "")))
+    activate(qtbot, window)
+    qtbot.keyClick(window, Qt.Key.Key_S, CTRL)
+    assert saved.is_file() and not window.isWindowModified()
+
+
 @pytest.fixture(scope="module")
 def synthesised_face():
     """The sample face as it would come from elsewhere (no areas, a flat wrinkled map), set up
@@ -123,11 +133,7 @@ def test_depth_dragged_for_one_pose_deepens_its_lines_live_and_undoes_in_one_ste
     assert region_difference(settled_image(qtbot, window), before, forehead) > 4.0
 
     saved = tmp_path / "spaced.wrinkle"
-    monkeypatch.setattr(QFileDialog, "getSaveFileName",
-                        staticmethod(lambda *a, **k: (str(saved), "")))
-    activate(qtbot, window)
-    qtbot.keyClick(window, Qt.Key.Key_S, CTRL)
-    assert saved.is_file() and not window.isWindowModified()
+    save_with_ctrl_s(qtbot, window, monkeypatch, saved)
     reopened = load_project(saved)
     assert reopened.furrows.of(POSE).spacing == 2.0
     assert np.array_equal(reopened.textures.wrinkle_maps[mine], spaced)

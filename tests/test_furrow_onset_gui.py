@@ -9,14 +9,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PySide6.QtCore import Qt
-from PySide6.QtWidgets import QFileDialog
 
 from studio.core.project.reader import load_project
 from studio.core.sample.synthetic import make_test_face
 from tests.gui_helpers import drag_slider, viewport_image, viewport_marks
 from tests.regions import region_difference
 from tests.test_files_gui import activate
-from tests.test_furrow_controls_gui import choose_pose, drag_handle, settled_image, type_value
+from tests.test_furrow_controls_gui import (
+    choose_pose,
+    drag_handle,
+    save_with_ctrl_s,
+    settled_image,
+    type_value,
+)
 
 CTRL = Qt.KeyboardModifier.ControlModifier
 POSE = "surprise"  # raises both brows: the forehead's lines
@@ -63,11 +68,7 @@ def test_an_onset_typed_for_a_pose_holds_its_lines_back_and_undoes_in_one_step(
     assert doc.undo_stack.count() == steps + 2  # the whole drag: one step
 
     saved = tmp_path / "onset.wrinkle"
-    monkeypatch.setattr(QFileDialog, "getSaveFileName",
-                        staticmethod(lambda *a, **k: (str(saved), "")))
-    activate(qtbot, window)
-    qtbot.keyClick(window, Qt.Key.Key_S, CTRL)
-    assert saved.is_file() and not window.isWindowModified()
+    save_with_ctrl_s(qtbot, window, monkeypatch, saved)
     reopened = load_project(saved)
     assert reopened.furrows.controls(POSE).onset == 0.6
     assert reopened.furrows.all.onset == doc.project.furrows.all.onset

@@ -53,11 +53,8 @@ class SetMapCommand(ImageSwapCommand):
     """Replace one texture map; keeps both images (maps are replaced whole, rarely)."""
 
     def __init__(self, doc: Document, attribute: str, image: np.ndarray, text: str) -> None:
-        super().__init__(doc, get_map(doc.project.textures, attribute), image, text)
-        self.attribute = attribute
-
-    def _apply(self, image: np.ndarray) -> None:
-        set_map(self.doc.project.textures, self.attribute, image)
+        super().__init__(doc, get_map(doc.project.textures, attribute), image, text,
+                         lambda new: set_map(doc.project.textures, attribute, new))
 
 
 class WrinkleMapsCommand(QUndoCommand):

@@ -34,14 +34,13 @@ class SetToneCommand(ImageSwapCommand):
 
     def __init__(self, doc: Document, name: str, kind: str, image: np.ndarray | None,
                  text: str) -> None:
-        super().__init__(doc, tone_maps(doc, kind).get(name), image, text)
-        self.name, self.kind = name, kind
+        def put(tone: np.ndarray | None) -> None:
+            if tone is None:
+                tone_maps(doc, kind).pop(name, None)
+            else:
+                doc.project.textures.set_tone(name, **{kind: tone})
 
-    def _apply(self, image: np.ndarray | None) -> None:
-        if image is None:
-            tone_maps(self.doc, self.kind).pop(self.name, None)
-        else:
-            self.doc.project.textures.set_tone(self.name, **{self.kind: image})
+        super().__init__(doc, tone_maps(doc, kind).get(name), image, text, put)
 
 
 class ToneTools:
